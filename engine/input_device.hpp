@@ -1,0 +1,29 @@
+// A source of device poses: a recorded trajectory, the mouse, or a UDP haptic bridge.
+#pragma once
+
+#include <cstdint>
+
+#include "engine/types.hpp"
+
+namespace acdr {
+
+/// One device reading at simulated time t.
+struct DeviceSample {
+  double t_s = 0.0;
+  Pose pose;                 ///< grip pose, world frame
+  std::uint32_t buttons = 0;
+  bool end = false;          ///< the source has finished (end of trajectory, end-of-attempt)
+};
+
+/// The interface the step loop reads from. One virtual call per step, never per particle.
+class InputDevice {
+ public:
+  virtual ~InputDevice() = default;
+  /// The pose to follow at simulated time t_s. Returns false when no new sample is available
+  /// (the previous one stays in force).
+  virtual bool sample(double t_s, DeviceSample& out) = 0;
+  /// Receives the force the simulation renders back to the user (N), after clamping.
+  virtual void render_force(const Vec3& force_N) {}
+};
+
+}  // namespace acdr

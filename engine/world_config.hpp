@@ -1,0 +1,123 @@
+// The engine's description of a scene: plain data, SI units, built once by the scenario loader
+// (or by a test or benchmark) and never changed while a World runs. Each optional part is
+// built only when present (`enabled`), so a scene pays only for what it declares.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/types.hpp"
+
+namespace acdr {
+
+/// One particle material (nucleus pulposus, annulus). Defaults: the seed's shortening-like
+/// nucleus (seed Sec. IV.A: viscosity >= 250 Pa·s) at water-like density (REFERENCES.md).
+struct MaterialConfig {
+  std::string name = "nucleus";
+  double density_kg_m3 = 1050.0;    ///< gel density, 1000-1100 usual (REFERENCES.md)
+  double viscosity_Pa_s = 250.0;    ///< Newtonian shear viscosity mu (seed Eq. 2-3)
+  double bond_stiffness_N_m = 5.0;  ///< spring stiffness k between bonded particles (Eq. 9)
+  double bond_break_m = 0.3e-3;     ///< break stretch delta_max; a bond breaks at k*delta_max (Eq. 10)
+  bool counts_as_target = true;     ///< removing it is the goal (nucleus) or a penalty (annulus)
+};
+
+/// An axis-aligned region filled with particles on a cubic lattice.
+struct ParticleBlockConfig {
+  Vec3 min_m = Vec3::Zero();
+  Vec3 max_m = Vec3::Zero();
+  int material = 0;  ///< index into NucleusConfig::materials
+};
+
+struct NucleusConfig {
+  bool enabled = false;
+  double spacing_m = 1.0e-3;            ///< lattice spacing h of the particles
+  double bond_radius_factor = 1.5;      ///< particles closer than factor*h at start are bonded
+  std::vector<MaterialConfig> materials;
+  std::vector<ParticleBlockConfig> blocks;
+};
+
+struct GroundConfig {
+  bool enabled = false;
+  double height_m = 0.0;  ///< the plane z = height_m, normal +z
+};
+
+/// The seed's static open box: a floor and four side walls (five wall actors), open at +z.
+struct OpenBoxConfig {
+  bool enabled = false;
+  Vec3 inner_min_m = Vec3::Zero();  ///< inner cavity, axis-aligned, world frame
+  Vec3 inner_max_m = Vec3::Zero();
+  double wall_thickness_m = 2.0e-3;
+};
+
+enum class InstrumentShape { kPrism, kCupCurette };
+
+/// The hand instrument. Its body frame has its origin at the grip point G (where the device
+/// holds it); the shaft runs from G along local -z to the working tip T = (0, 0, -shaft_length).
+struct InstrumentConfig {
+  bool enabled = false;
+  InstrumentShape shape = InstrumentShape::kPrism;
+  double mass_kg = 0.03;
+  double shaft_length_m = 0.08;     ///< grip to working tip
+  double shaft_diameter_m = 2.0e-3; ///< round shaft; sets the yield moment
+  double yield_stress_Pa = 500e6;   ///< surgical stainless steel, scenario-editable
+  double warning_fraction = 0.5;    ///< moment above this fraction of yield is an overload warning
+  /// Prism blade (seed Fig. 4-6): length along local x, width along y, height along z; its
+  /// lower face is at the tip.
+  Vec3 blade_size_m = Vec3(8.0e-3, 4.0e-3, 10.0e-3);
+  double cup_diameter_m = 4.0e-3;   ///< cup curette: inner diameter of the cup
+  double cup_depth_m = 2.0e-3;      ///< cup curette: depth of the cup
+  double cup_wall_m = 0.4e-3;       ///< cup curette: wall thickness
+
+  /// Bending moment at which the shaft yields: M_yield = sigma_y * pi * d^3 / 32.
+  double yield_moment_Nm() const;
+};
+
+/// Virtual coupling between the device pose and the instrument (Colgate 1995; Adams &
+/// Hannaford 1999). Critical damping is kd = 2*sqrt(m*ks).
+struct CouplingConfig {
+  double stiffness_N_m = 500.0;       ///< below the Phantom Omni's 700 N/m (REFERENCES.md)
+  double damping_Ns_m = -1.0;         ///< < 0: critically damped from mass and stiffness
+  double rot_stiffness_Nm_rad = 0.5;
+  double rot_damping_Nms_rad = -1.0;  ///< < 0: critically damped from inertia
+};
+
+/// The haptic device the force is sent to (REFERENCES.md, Haptics).
+struct DeviceConfig {
+  std::string name = "Touch";
+  double max_force_N = 3.3;
+  double max_force_rate_N_s = 300.0;  ///< slew limit of the rendered force
+  double ramp_in_s = 0.5;             ///< force ramps from zero at start (no start-up kick)
+  double max_jump_m = 0.01;           ///< a pose jump larger than this in one packet is rejected
+};
+
+struct SolverConfig {
+  double dt_s = 1.0e-3;          ///< fixed step (1 kHz haptic rate)
+  int substeps = 1;
+  int max_iterations = 60;       ///< linear solver iterations per substep
+  double tolerance = 1.0e-4;     ///< relative residual of the linear solve
+  bool sleep_enabled = true;     ///< particles at rest far from the instrument are not integrated
+  double sleep_speed_m_s = 1.0e-4;
+  double sleep_distance_m = 6.0e-3;
+};
+
+/// Region whose particles count as still in place; a particle that leaves it is removed.
+struct RemovalRegionConfig {
+  Vec3 min_m = Vec3::Zero();
+  Vec3 max_m = Vec3::Zero();
+};
+
+struct WorldConfig {
+  Vec3 gravity_m_s2 = Vec3(0.0, 0.0, -kStandardGravity);
+  GroundConfig ground;
+  OpenBoxConfig box;
+  NucleusConfig nucleus;
+  InstrumentConfig instrument;
+  CouplingConfig coupling;
+  DeviceConfig device;
+  SolverConfig solver;
+  RemovalRegionConfig removal;
+  Pose instrument_start;  ///< grip pose at t = 0 (also the device pose until input arrives)
+};
+
+}  // namespace acdr

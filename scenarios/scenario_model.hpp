@@ -1,0 +1,25 @@
+// A validated, immutable scenario: the engine's WorldConfig plus what the trainee and the
+// assessment need (title, goal, time limit, rubric). Built only by the loader.
+#pragma once
+
+#include <string>
+
+#include "assessment/rubric.hpp"
+#include "engine/world_config.hpp"
+
+namespace acdr {
+
+struct ScenarioModel {
+  std::string path;          ///< file it was loaded from
+  std::string hash;          ///< FNV-1a 64 of the file bytes, hex (stored with every attempt)
+  int format_version = 1;
+  std::string id;            ///< stable module id, e.g. "box-warmup"
+  std::string title;
+  std::string goal;          ///< learning goal in plain words
+  int module_order = 0;      ///< position in the curriculum
+  double time_limit_s = 0.0; ///< 0: none
+  WorldConfig world;
+  Rubric rubric;
+};
+
+}  // namespace acdr
