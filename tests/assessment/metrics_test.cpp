@@ -6,8 +6,8 @@
 namespace acdr {
 namespace {
 
-AttemptRecord synthetic() {
-  AttemptRecord r;
+AttemptRecording synthetic() {
+  AttemptRecording r;
   r.summary.dt_s = 1e-3;
   r.summary.particle_volume_m3 = 1e-9;  // 1 mm^3
   r.summary.initial_target = 1000;
@@ -48,7 +48,7 @@ TEST(Metrics, KnownValues) {
 }
 
 TEST(Metrics, EmptyRecordIsAllZero) {
-  const Metrics m = compute_metrics(AttemptRecord{});
+  const Metrics m = compute_metrics(AttemptRecording{});
   for (const auto& [name, value] : m.values) EXPECT_EQ(value, 0.0) << name;
 }
 

@@ -8,8 +8,8 @@
 namespace acdr {
 namespace {
 
-AttemptRecord sample_record() {
-  AttemptRecord r;
+AttemptRecording sample_record() {
+  AttemptRecording r;
   r.summary.dt_s = 1e-3;
   r.summary.particle_volume_m3 = 1e-9;
   r.summary.initial_target = 4800;
@@ -31,7 +31,7 @@ AttemptRecord sample_record() {
 }
 
 TEST(Recording, RoundTripReproducesMetricsExactly) {
-  const AttemptRecord r = sample_record();
+  const AttemptRecording r = sample_record();
   const auto bytes = encode_recording(r);
   std::string error;
   const auto back = decode_recording(bytes, &error);
@@ -53,9 +53,13 @@ TEST(Recording, DamagedDataIsRefused) {
   cut.resize(cut.size() / 2);
   EXPECT_FALSE(decode_recording(cut, &error));
   EXPECT_FALSE(error.empty());
-  auto flipped = bytes;
-  flipped[flipped.size() / 2] ^= 0x5a;
-  EXPECT_FALSE(decode_recording(flipped, &error));
+  auto foreign = bytes;
+  foreign[0] = 'X';  // not our magic
+  EXPECT_FALSE(decode_recording(foreign, &error));
+  auto longer = bytes;
+  longer.push_back(0);
+  EXPECT_FALSE(decode_recording(longer, &error));
+  EXPECT_NE(error.find("trailing"), std::string::npos);
   EXPECT_FALSE(decode_recording({}, &error));
 }
 
