@@ -57,7 +57,7 @@ RenderScene make_sample_scene(int particle_count, float aspect, const SampleScen
     float spacing = std::cbrt(size.prod() / static_cast<float>(n));
     Eigen::Vector3i cells;
     for (int iter = 0; iter < 64; ++iter) {
-      for (int a = 0; a < 3; ++a) cells[a] = std::max(1, static_cast<int>(size[a] / spacing) + 1);
+      for (int a = 0; a < 3; ++a) cells[a] = std::max(1, static_cast<int>(size[a] / spacing));
       if (static_cast<long>(cells.x()) * cells.y() * cells.z() >= n) break;
       spacing *= 0.97f;
     }
