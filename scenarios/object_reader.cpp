@@ -178,7 +178,7 @@ const json* ObjectReader::lookup(const std::string& key, Need need, const std::s
   if (object_ == nullptr) return nullptr;
   auto it = object_->find(key);
   if (it == object_->end()) {
-    if (need == Need::kRequired) {
+    if (need != Need::kOptional) {
       ctx_->error_located(child(key), pointer_, "missing required key (expected " + expected + ")");
     }
     return nullptr;
@@ -186,9 +186,9 @@ const json* ObjectReader::lookup(const std::string& key, Need need, const std::s
   return &*it;
 }
 
-bool ObjectReader::check_range(const std::string& key, double si_value, double shown_value,
+bool ObjectReader::check_range(const std::string& key, double value_in_si, double shown_value,
                                const Range& si_range, double to_si, const char* symbol) {
-  if (inside(si_range, si_value)) return true;
+  if (inside(si_range, value_in_si)) return true;
   ctx_->error(child(key), "out of range (got " + with_unit(shown_value, symbol) + ", expected " +
                               range_text(si_range, to_si, symbol) + ")");
   return false;
@@ -262,7 +262,7 @@ std::optional<double> ObjectReader::quantity(const std::vector<UnitKey>& spellin
   }
   if (object_ == nullptr) return std::nullopt;
   if (chosen == nullptr) {
-    if (need == Need::kRequired) {
+    if (need != Need::kOptional) {
       ctx_->error_located(child(names.front()), pointer_,
                           "missing required key (expected " + expected + ")");
     }
@@ -314,7 +314,7 @@ std::optional<Vec3> ObjectReader::vector3(const std::vector<UnitKey>& spellings,
   }
   if (object_ == nullptr) return std::nullopt;
   if (chosen == nullptr) {
-    if (need == Need::kRequired) {
+    if (need != Need::kOptional) {
       ctx_->error_located(child(names.front()), pointer_,
                           "missing required key (expected " + expected + ")");
     }

@@ -18,8 +18,9 @@
 
 namespace acdr {
 
-/// Whether a key must be present.
-enum class Need { kOptional, kRequired };
+/// Whether a key must be present. kRequiredHere: required in this file because of another
+/// key (e.g. a removal region because a nucleus is declared); the format lists it as optional.
+enum class Need { kOptional, kRequired, kRequiredHere };
 
 /// An allowed interval, in SI units. Unset bounds are open.
 struct Range {
@@ -122,7 +123,7 @@ class ObjectReader {
   const nlohmann::json* lookup(const std::string& key, Need need, const std::string& expected);
   void remember(const std::string& key);
   std::string child_pattern(const std::string& key) const;
-  bool check_range(const std::string& key, double si_value, double shown_value, const Range& si_range,
+  bool check_range(const std::string& key, double value_in_si, double shown_value, const Range& si_range,
                    double to_si, const char* symbol);
 
   LoadContext* ctx_;

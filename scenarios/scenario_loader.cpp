@@ -304,7 +304,7 @@ void read_device(ObjectReader& r, DeviceConfig& d) {
   if (auto s = r.string("name", Need::kOptional)) d.name = *s;
   else if (!has_preset) d.name = "custom";
   // Without a preset the rated force must be stated: a wrong limit is felt by the user.
-  if (auto v = r.number("max_force_N", has_preset ? Need::kOptional : Need::kRequired,
+  if (auto v = r.number("max_force_N", has_preset ? Need::kOptional : Need::kRequiredHere,
                         Range::positive(100.0), "N")) {
     d.max_force_N = *v;
   }
@@ -371,7 +371,7 @@ void read_world(ObjectReader& r, WorldConfig& w) {
   if (auto o = r.object("solver", Need::kOptional)) read_solver(*o, w.solver);
   // Removal is what the nucleus is scored by, so a scene with a nucleus must say where it is.
   const bool nucleus_declared = r.has("nucleus");
-  if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequired : Need::kOptional)) {
+  if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequiredHere : Need::kOptional)) {
     read_removal(*o, w.removal, w.nucleus);
   }
   r.finish();
@@ -489,7 +489,7 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
   try {
     doc = json::parse(text, nullptr, true, false);
   } catch (const json::parse_error& e) {
-    const JsonPositionIndex lines(text);
+    const JsonPositionIndex lines = JsonPositionIndex::lines_only(text);
     std::size_t offset = e.byte == 0 ? 0 : e.byte - 1;
     const bool at_end = e.byte >= text.size();
     if (at_end) {
@@ -505,7 +505,7 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
   } catch (const json::exception& e) {
     // Number overflow (e.g. 1e400) is reported without a position; find the literal.
     std::string what = e.what();
-    const JsonPositionIndex lines(text);
+    const JsonPositionIndex lines = JsonPositionIndex::lines_only(text);
     TextPosition at{1, 1};
     const std::size_t q1 = what.find('\''), q2 = what.rfind('\'');
     if (q1 != std::string::npos && q2 > q1) {
