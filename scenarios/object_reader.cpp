@@ -212,11 +212,12 @@ std::optional<double> ObjectReader::number(const std::string& key, Need need, co
   return x;
 }
 
-std::optional<int> ObjectReader::integer(const std::string& key, Need need, const Range& range) {
+std::optional<int> ObjectReader::integer(const std::string& key, Need need, const Range& range,
+                                         const std::string& hint) {
   KeyInfo info = key_info(child_pattern(key), "integer", need == Need::kRequired);
   set_bounds(info, range, 1.0);
   ctx_->record(info);
-  const json* v = lookup(key, need, "an integer");
+  const json* v = lookup(key, need, hint.empty() ? "an integer" : "an integer: " + hint);
   if (v == nullptr) return std::nullopt;
   const std::optional<int> i = as_int(*v);
   if (!i) {
@@ -379,7 +380,8 @@ std::optional<std::vector<double>> ObjectReader::numbers(const std::string& key,
 }
 
 std::optional<std::string> ObjectReader::string(const std::string& key, Need need, bool nonempty,
-                                                const std::vector<std::string>& allowed) {
+                                                const std::vector<std::string>& allowed,
+                                                const std::string& hint) {
   KeyInfo info = key_info(child_pattern(key), "string", need == Need::kRequired);
   info.enum_values = allowed;
   ctx_->record(info);
@@ -390,7 +392,7 @@ std::optional<std::string> ObjectReader::string(const std::string& key, Need nee
       expected += (i == 0 ? " " : ", ") + in_quotes(allowed[i]);
     }
   }
-  const json* v = lookup(key, need, expected);
+  const json* v = lookup(key, need, hint.empty() ? expected : expected + ": " + hint);
   if (v == nullptr) return std::nullopt;
   if (!v->is_string()) {
     ctx_->error(child(key), "wrong type (got " + describe_value(*v) + ", expected " + expected + ")");

@@ -92,8 +92,10 @@ class ObjectReader {
   /// A dimensionless number (unit symbol only for messages, e.g. "Pa·s" is in the key name).
   std::optional<double> number(const std::string& key, Need need, const Range& range,
                                const char* unit_symbol = "");
-  /// An integer (1 and 1.0 both accepted, as JSON Schema does).
-  std::optional<int> integer(const std::string& key, Need need, const Range& range);
+  /// An integer (1 and 1.0 both accepted, as JSON Schema does). `hint` completes the
+  /// "expected" text of a missing-key error ("the format version, 1").
+  std::optional<int> integer(const std::string& key, Need need, const Range& range,
+                             const std::string& hint = "");
   /// A quantity in one of several unit spellings (not two at once), converted to SI; the range
   /// is in SI.
   std::optional<double> quantity(const std::vector<UnitKey>& spellings, Need need,
@@ -106,7 +108,8 @@ class ObjectReader {
   std::optional<std::vector<double>> numbers(const std::string& key, Need need, std::size_t count);
   /// A string; `nonempty` rejects ""; `allowed` (when not empty) limits its values.
   std::optional<std::string> string(const std::string& key, Need need, bool nonempty = true,
-                                    const std::vector<std::string>& allowed = {});
+                                    const std::vector<std::string>& allowed = {},
+                                    const std::string& hint = "");
   std::optional<bool> boolean(const std::string& key, Need need);
   /// A nested object.
   std::optional<ObjectReader> object(const std::string& key, Need need);

@@ -216,7 +216,7 @@ TEST(ScenarioLoaderErrors, MissingRequiredKeyNamesThePathAndTheParentLine) {
   std::string text = replace_once(box_module_text(), "\"format_version\": 1,\n", "");
   auto errors = errors_of(text);
   ASSERT_EQ(errors.size(), 1u) << to_string(errors);
-  EXPECT_EQ(errors[0].to_string(), "m.json:1: /format_version: missing required key (expected an integer)");
+  EXPECT_EQ(errors[0].to_string(), "m.json:1: /format_version: missing required key (expected an integer: the format version, 1)");
 
   // A nested key: at the line of the object that lacks it.
   text = replace_once(box_module_text(), "{ \"metric\": \"overload_events\", \"max\": 0 }", "{ \"max\": 0 }");

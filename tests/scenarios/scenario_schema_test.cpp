@@ -41,7 +41,10 @@ std::string schema_type(const json& node) {
   const json& t = node.at("type");
   if (t.is_string()) return t.get<std::string>();
   std::string joined;
-  for (const json& part : t) joined += (joined.empty() ? "" : "|") + part.get<std::string>();
+  for (const json& part : t) {
+    if (!joined.empty()) joined += '|';
+    joined += part.get<std::string>();
+  }
   return joined;
 }
 
