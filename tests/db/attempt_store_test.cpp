@@ -290,7 +290,7 @@ TEST(AttemptStore, RescoreReplacesMetricsAndScoreOnly) {
   EXPECT_EQ(a.status, AttemptStatus::kCompleted);
 }
 
-TEST(AttemptStore, AttemptOfAWriterOnAnotherHostOrDeadPidIsAborted) {
+TEST(AttemptStore, AttemptOfAWriterOnAnotherHostIsAbortedButOwnIsNot) {
   TempDir dir;
   Database db = test::open_or_fail(dir.file("record.sqlite"));
   test::register_curriculum(db, 1);
