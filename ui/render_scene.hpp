@@ -26,6 +26,9 @@ struct RenderMesh {
   /// drawn (pose and colour may change), so a renderer uploads them once and keeps them.
   /// 0: uploaded again on every frame (fine for small or changing meshes).
   std::uint64_t geometry_id = 0;
+  /// Counted when a default camera frames the scene (frame_scene). Set false for parts that
+  /// should not pull the view away from the work site, e.g. a long instrument shaft.
+  bool include_in_framing = true;
 };
 
 /// Particles drawn as lit spheres (or sprites), one colour per particle.

@@ -219,7 +219,7 @@ void main() {
     vec2 coord = v_world.xy / u_grid_spacing;
     vec2 dist = abs(fract(coord - 0.5) - 0.5) / max(fwidth(coord), vec2(1e-6));
     float line = 1.0 - min(min(dist.x, dist.y), 1.0);
-    base *= 1.0 - 0.35 * line;
+    base *= 1.0 - 0.25 * line;
   }
   vec3 n = u_up_dir;
   if (!gl_FrontFacing) n = -n;
@@ -591,7 +591,9 @@ void SceneRenderer::draw_ground(const RenderScene& scene, const Eigen::Matrix4f&
   const std::optional<Bounds3f> bounds = scene_bounds(scene);
   if (!bounds) return;
   const Eigen::Vector3f size = bounds->max - bounds->min;
-  const float extent = std::max({size.x(), size.y(), size.z(), 1e-3f});
+  // The plane's reach follows the scene's footprint, so a tall thin part (an instrument held
+  // high) does not spread the grid far beyond the work site.
+  const float extent = std::max({size.x(), size.y(), 0.25f * size.z(), 1e-3f});
   // Just under the lowest point, so the plane never cuts through a floor drawn by the scene.
   const float height = std::isfinite(scene.ground.height_m)
                            ? scene.ground.height_m
