@@ -38,7 +38,8 @@ using ImGuiDrawFunction = std::function<void()>;
 
 /// Owns an OSMesa context, a scene renderer, its own ImGui context and an ImGui renderer.
 /// The ImGui context is made current only inside render(); the caller's current ImGui context
-/// (if any) is restored afterwards.
+/// (if any) is restored afterwards. ImGui's current-context pointer is one per process, so use
+/// ImGui (this class included) from one thread at a time.
 class ImGuiOffscreen {
  public:
   static std::unique_ptr<ImGuiOffscreen> create(int width, int height, std::string* error,
