@@ -20,7 +20,7 @@ const double* Metrics::find(const std::string& name) const {
   return nullptr;
 }
 
-Metrics compute_metrics(const AttemptRecord& record) {
+Metrics compute_metrics(const AttemptRecording& record) {
   const WorldSummary& s = record.summary;
   Metrics m;
   const Frame* last = record.frames.empty() ? nullptr : &record.frames.back();

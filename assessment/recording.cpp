@@ -1,8 +1,6 @@
 // Recording encoder and decoder.
 #include "assessment/recording.hpp"
 
-#include <zlib.h>
-
 #include <cstring>
 
 namespace acdr {
@@ -51,7 +49,7 @@ class Reader {
 
 }  // namespace
 
-std::vector<std::uint8_t> encode_recording(const AttemptRecord& r) {
+std::vector<std::uint8_t> encode_recording(const AttemptRecording& r) {
   Writer w;
   w.bytes.insert(w.bytes.end(), kMagic, kMagic + 8);
   w.put(kVersion);
@@ -82,41 +80,22 @@ std::vector<std::uint8_t> encode_recording(const AttemptRecord& r) {
     w.bytes.insert(w.bytes.end(), e.detail.begin(), e.detail.end());
   }
 
-  // Compressed form: u64 raw size, then the zlib stream.
-  uLongf bound = compressBound(static_cast<uLong>(w.bytes.size()));
-  std::vector<std::uint8_t> out(sizeof(std::uint64_t) + bound);
-  const std::uint64_t raw = w.bytes.size();
-  std::memcpy(out.data(), &raw, sizeof raw);
-  compress2(out.data() + sizeof raw, &bound, w.bytes.data(), static_cast<uLong>(w.bytes.size()),
-            6);
-  out.resize(sizeof raw + bound);
-  return out;
+  return std::move(w.bytes);
 }
 
-std::optional<AttemptRecord> decode_recording(const std::vector<std::uint8_t>& packed,
+std::optional<AttemptRecording> decode_recording(const std::vector<std::uint8_t>& bytes,
                                               std::string* error) {
   auto fail = [&](const char* why) {
     if (error) *error = std::string("recording: ") + why;
     return std::nullopt;
   };
-  std::uint64_t raw_size = 0;
-  if (packed.size() < sizeof raw_size) return fail("too short");
-  std::memcpy(&raw_size, packed.data(), sizeof raw_size);
-  if (raw_size > (1ull << 32)) return fail("implausible size (damaged?)");
-  std::vector<std::uint8_t> bytes(raw_size);
-  uLongf len = static_cast<uLongf>(raw_size);
-  if (uncompress(bytes.data(), &len, packed.data() + sizeof raw_size,
-                 static_cast<uLong>(packed.size() - sizeof raw_size)) != Z_OK ||
-      len != raw_size)
-    return fail("cannot decompress (damaged?)");
-
   Reader rd(bytes);
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 8) != 0)
     return fail("not an ACDR recording");
   rd.pos = 8;
   std::uint32_t version = 0;
   if (!rd.get(version) || version != kVersion) return fail("unknown recording version");
-  AttemptRecord r;
+  AttemptRecording r;
   WorldSummary& s = r.summary;
   if (!(rd.get(s.dt_s) && rd.get(s.particle_volume_m3) && rd.get(s.initial_target) &&
         rd.get(s.initial_protected) && rd.get(s.yield_moment_Nm) && rd.get(s.warning_moment_Nm) &&

@@ -1,7 +1,8 @@
-// The recording of an attempt: its AttemptRecord as a compact, versioned, zlib-compressed byte
-// string, stored with the attempt so that it can be replayed and re-scored.
+// The recording of an attempt: its AttemptRecording as a compact, versioned byte string
+// (format "acdr-frames-v1"), stored with the attempt (the store compresses it) so that it can be
+// replayed and re-scored.
 //
-// Layout before compression (little-endian, IEEE-754 doubles): "ACDRREC1", u32 version,
+// Layout (little-endian, IEEE-754 doubles): "ACDRREC1", u32 version,
 // the WorldSummary, u64 frame count, the frames field by field, u64 event count, the events.
 #pragma once
 
@@ -10,14 +11,17 @@
 #include <string>
 #include <vector>
 
-#include "assessment/attempt_record.hpp"
+#include "assessment/attempt_recording.hpp"
 
 namespace acdr {
 
-std::vector<std::uint8_t> encode_recording(const AttemptRecord& record);
+/// Name of this layout, stored beside the bytes.
+inline constexpr const char* kRecordingFormat = "acdr-frames-v1";
+
+std::vector<std::uint8_t> encode_recording(const AttemptRecording& record);
 
 /// Decodes a recording; on damaged or foreign data returns nullopt with the reason.
-std::optional<AttemptRecord> decode_recording(const std::vector<std::uint8_t>& bytes,
+std::optional<AttemptRecording> decode_recording(const std::vector<std::uint8_t>& bytes,
                                               std::string* error);
 
 }  // namespace acdr

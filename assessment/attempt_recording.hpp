@@ -9,7 +9,7 @@
 
 namespace acdr {
 
-struct AttemptRecord {
+struct AttemptRecording {
   WorldSummary summary;
   std::vector<Frame> frames;
   std::vector<Event> events;

@@ -1,0 +1,562 @@
+// The scenario loader: parse, index positions, then read the format top-down with typed,
+// located reads (object_reader.hpp), collecting every error. Defaults, units and ranges here
+// are the ones documented in docs/scenario-format.md and scenarios/scenario.schema.json.
+#include "scenarios/scenario_loader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "scenarios/content_hash.hpp"
+#include "scenarios/device_presets.hpp"
+#include "scenarios/json_position_index.hpp"
+#include "scenarios/known_metrics.hpp"
+#include "scenarios/object_reader.hpp"
+
+namespace acdr {
+
+using nlohmann::json;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Unit spellings. A quantity with two natural units accepts both, never both at once.
+
+std::vector<UnitKey> length(const std::string& base) {
+  return {{base + "_mm", 1e-3, "mm"}, {base + "_m", 1.0, "m"}};
+}
+std::vector<UnitKey> mass(const std::string& base) {
+  return {{base + "_g", 1e-3, "g"}, {base + "_kg", 1.0, "kg"}};
+}
+std::vector<UnitKey> stress(const std::string& base) {
+  return {{base + "_MPa", 1e6, "MPa"}, {base + "_Pa", 1.0, "Pa"}};
+}
+std::vector<UnitKey> duration(const std::string& base) {
+  return {{base + "_ms", 1e-3, "ms"}, {base + "_s", 1.0, "s"}};
+}
+std::vector<UnitKey> speed(const std::string& base) {
+  return {{base + "_mm_s", 1e-3, "mm/s"}, {base + "_m_s", 1.0, "m/s"}};
+}
+std::vector<UnitKey> plain(const std::string& key, const char* symbol = "") {
+  return {{key, 1.0, symbol}};
+}
+
+constexpr double kMm = 1e-3;
+/// Coordinates: anywhere within 10 m of the origin (a scene is centimetres across).
+const Range kCoordinate = Range::closed(-10.0, 10.0);
+
+std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
+
+std::string vec_text(const Vec3& v, double scale, const char* unit) {
+  return "[" + format_number(v.x() / scale) + ", " + format_number(v.y() / scale) + ", " +
+         format_number(v.z() / scale) + "] " + unit;
+}
+
+/// Which spelling of a vector key the file used (for messages about cross-checks).
+std::string used_key(const ObjectReader& r, const std::string& base) {
+  return r.has(base + "_m") ? base + "_m" : base + "_mm";
+}
+
+/// min < max on every axis, else an error on the max key.
+bool check_box(ObjectReader& r, const std::string& min_base, const std::string& max_base,
+               const Vec3& min, const Vec3& max) {
+  if ((min.array() < max.array()).all()) return true;
+  r.context().error(r.child(used_key(r, max_base)),
+                    "must exceed " + in_quotes(used_key(r, min_base)) + " on every axis (got min " +
+                        vec_text(min, kMm, "mm") + ", max " + vec_text(max, kMm, "mm") +
+                        ", expected max > min for x, y and z)");
+  return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// world parts
+
+void read_ground(ObjectReader& r, GroundConfig& g) {
+  g.enabled = true;
+  if (auto h = r.quantity(length("height"), Need::kOptional, kCoordinate)) g.height_m = *h;
+  r.finish();
+}
+
+void read_box(ObjectReader& r, OpenBoxConfig& b) {
+  b.enabled = true;
+  auto min = r.vector3(length("inner_min"), Need::kRequired, kCoordinate);
+  auto max = r.vector3(length("inner_max"), Need::kRequired, kCoordinate);
+  if (min && max && check_box(r, "inner_min", "inner_max", *min, *max)) {
+    b.inner_min_m = *min;
+    b.inner_max_m = *max;
+  }
+  if (auto t = r.quantity(length("wall_thickness"), Need::kOptional, Range::positive(50 * kMm))) {
+    b.wall_thickness_m = *t;
+  }
+  r.finish();
+}
+
+void read_material(ObjectReader& r, MaterialConfig& m) {
+  if (auto s = r.string("name", Need::kRequired, true, {}, "the material name")) m.name = *s;
+  if (auto v = r.number("density_kg_m3", Need::kOptional, Range::positive(20000.0), "kg/m³")) {
+    m.density_kg_m3 = *v;
+  }
+  if (auto v = r.number("viscosity_Pa_s", Need::kOptional, Range::closed(0.0, 1e6), "Pa·s")) {
+    m.viscosity_Pa_s = *v;
+  }
+  if (auto v = r.number("bond_stiffness_N_m", Need::kOptional, Range::closed(0.0, 1e5), "N/m")) {
+    m.bond_stiffness_N_m = *v;
+  }
+  if (auto v = r.quantity(length("bond_break"), Need::kOptional, Range::positive(10 * kMm))) {
+    m.bond_break_m = *v;
+  }
+  if (auto v = r.boolean("counts_as_target", Need::kOptional)) m.counts_as_target = *v;
+  r.finish();
+}
+
+/// Particles a block will hold on a lattice of spacing h (an estimate: floor(size/h) + 1 per axis).
+double estimated_particles(const ParticleBlockConfig& b, double h) {
+  double n = 1.0;
+  for (int i = 0; i < 3; ++i) n *= std::floor((b.max_m[i] - b.min_m[i]) / h) + 1.0;
+  return n;
+}
+
+void read_nucleus(ObjectReader& r, NucleusConfig& n) {
+  n.enabled = true;
+  if (auto h = r.quantity(length("spacing"), Need::kOptional, Range::closed(0.1 * kMm, 10 * kMm))) {
+    n.spacing_m = *h;
+  }
+  // Above 1 so that nearest neighbours (at exactly h) bond; 3 h already bonds ~100 neighbours.
+  if (auto f = r.number("bond_radius_factor", Need::kOptional, {1.0, 3.0, true, false})) {
+    n.bond_radius_factor = *f;
+  }
+  std::vector<ObjectReader> materials = r.objects("materials", Need::kRequired, 1);
+  for (ObjectReader& mr : materials) {
+    MaterialConfig m;
+    read_material(mr, m);
+    const bool duplicate = std::any_of(n.materials.begin(), n.materials.end(),
+                                       [&](const MaterialConfig& o) { return o.name == m.name; });
+    if (duplicate) {
+      r.context().error(mr.child("name"), "duplicate material name (got " + in_quotes(m.name) +
+                                              ", expected a name not used by another material)");
+    }
+    n.materials.push_back(m);
+  }
+
+  std::vector<ObjectReader> blocks = r.objects("blocks", Need::kRequired, 1);
+  for (ObjectReader& br : blocks) {
+    ParticleBlockConfig b;
+    auto min = br.vector3(length("min"), Need::kRequired, kCoordinate);
+    auto max = br.vector3(length("max"), Need::kRequired, kCoordinate);
+    if (min && max && check_box(br, "min", "max", *min, *max)) {
+      b.min_m = *min;
+      b.max_m = *max;
+    }
+    // A material by name (preferred) or by index into `materials`.
+    const json* mat = br.raw("material", Need::kOptional, "integer|string",
+                             "a material name or index");
+    if (mat != nullptr) {
+      std::string names;
+      for (std::size_t i = 0; i < n.materials.size(); ++i) {
+        names += (i == 0 ? "" : ", ") + in_quotes(n.materials[i].name);
+      }
+      if (mat->is_string()) {
+        const std::string& s = mat->get_ref<const std::string&>();
+        auto it = std::find_if(n.materials.begin(), n.materials.end(),
+                               [&](const MaterialConfig& m) { return m.name == s; });
+        if (it == n.materials.end()) {
+          br.context().error(br.child("material"), "unknown material (got " + describe_value(*mat) +
+                                                       ", expected one of " + names + ")");
+        } else {
+          b.material = static_cast<int>(it - n.materials.begin());
+        }
+      } else if (mat->is_number_integer() ||
+                 (mat->is_number_float() && std::floor(mat->get<double>()) == mat->get<double>())) {
+        const double i = mat->get<double>();
+        if (i < 0 || i >= static_cast<double>(n.materials.size())) {
+          br.context().error(br.child("material"),
+                             "no such material (got index " + describe_value(*mat) + ", expected 0 to " +
+                                 std::to_string(static_cast<int>(n.materials.size()) - 1) + ": " +
+                                 names + ")");
+        } else {
+          b.material = static_cast<int>(i);
+        }
+      } else {
+        br.context().error(br.child("material"), "wrong type (got " + describe_value(*mat) +
+                                                     ", expected a material name or index)");
+      }
+    }
+    br.finish();
+    n.blocks.push_back(b);
+  }
+
+  double total = 0.0;
+  for (const ParticleBlockConfig& b : n.blocks) total += estimated_particles(b, n.spacing_m);
+  if (total > kMaxScenarioParticles) {
+    r.context().error(r.child("blocks"),
+                      "too many particles (got about " + format_number(std::round(total)) +
+                          " at spacing " + format_number(n.spacing_m / kMm) + " mm, expected at most " +
+                          format_number(kMaxScenarioParticles) + "; use a larger spacing or smaller blocks)");
+  }
+  r.finish();
+}
+
+void read_instrument(ObjectReader& r, InstrumentConfig& in) {
+  in.enabled = true;
+  if (auto s = r.string("shape", Need::kOptional, true, {"prism", "cup_curette"})) {
+    in.shape = *s == "prism" ? InstrumentShape::kPrism : InstrumentShape::kCupCurette;
+  }
+  if (auto v = r.quantity(mass("mass"), Need::kOptional, Range::positive(5.0))) in.mass_kg = *v;
+  if (auto v = r.quantity(length("shaft_length"), Need::kOptional, Range::positive(0.5))) {
+    in.shaft_length_m = *v;
+  }
+  if (auto v = r.quantity(length("shaft_diameter"), Need::kOptional, Range::positive(20 * kMm))) {
+    in.shaft_diameter_m = *v;
+  }
+  if (auto v = r.quantity(stress("yield_stress"), Need::kOptional, Range::positive(5000e6))) {
+    in.yield_stress_Pa = *v;
+  }
+  if (auto v = r.number("warning_fraction", Need::kOptional, Range::positive(1.0))) {
+    in.warning_fraction = *v;
+  }
+  if (auto v = r.vector3(length("blade_size"), Need::kOptional, Range::positive(100 * kMm))) {
+    in.blade_size_m = *v;
+  }
+  if (auto v = r.quantity(length("cup_diameter"), Need::kOptional, Range::positive(20 * kMm))) {
+    in.cup_diameter_m = *v;
+  }
+  if (auto v = r.quantity(length("cup_depth"), Need::kOptional, Range::positive(20 * kMm))) {
+    in.cup_depth_m = *v;
+  }
+  auto wall = r.quantity(length("cup_wall"), Need::kOptional, Range::positive(5 * kMm));
+  if (wall) in.cup_wall_m = *wall;
+  if (2.0 * in.cup_wall_m >= in.cup_diameter_m) {
+    const std::string key = r.has("cup_wall_m") ? "cup_wall_m" : "cup_wall_mm";
+    r.context().error(r.child(key), "cup wall too thick for the cup (got wall " +
+                                        format_number(in.cup_wall_m / kMm) + " mm, diameter " +
+                                        format_number(in.cup_diameter_m / kMm) +
+                                        " mm, expected twice the wall < the diameter)");
+  }
+  r.finish();
+}
+
+void read_instrument_start(ObjectReader& r, Pose& pose) {
+  if (auto p = r.vector3(length("position"), Need::kOptional, kCoordinate)) pose.position = *p;
+  // Orientation: a unit quaternion [w, x, y, z], or an axis and an angle in degrees.
+  auto q = r.numbers("orientation_wxyz", Need::kOptional, 4);
+  std::optional<ObjectReader> aa = r.object("orientation_axis_angle", Need::kOptional);
+  if (q && aa) {
+    r.context().error(r.child("orientation_axis_angle"),
+                      "give either \"orientation_wxyz\" or \"orientation_axis_angle\", not both");
+  } else if (q) {
+    const double norm = std::sqrt((*q)[0] * (*q)[0] + (*q)[1] * (*q)[1] + (*q)[2] * (*q)[2] +
+                                  (*q)[3] * (*q)[3]);
+    // Tolerant of 4-digit rounding (0.7071), not of a non-rotation.
+    if (!(std::fabs(norm - 1.0) <= 1e-3)) {
+      r.context().error(r.child("orientation_wxyz"),
+                        "not a unit quaternion (got norm " + format_number(norm) +
+                            ", expected 1 within 0.001; identity is [1, 0, 0, 0])");
+    } else {
+      pose.orientation = Quat((*q)[0], (*q)[1], (*q)[2], (*q)[3]).normalized();
+    }
+  }
+  if (aa) {
+    auto axis = aa->vector3(plain("axis"), Need::kRequired, Range::closed(-1e6, 1e6));
+    auto angle = aa->number("angle_deg", Need::kRequired, Range::closed(-360.0, 360.0), "deg");
+    if (axis && axis->norm() < 1e-12) {
+      r.context().error(aa->child("axis"), "zero axis (got [0, 0, 0], expected a non-zero direction)");
+    } else if (axis && angle && !q) {
+      pose.orientation = Quat(Eigen::AngleAxisd(*angle * M_PI / 180.0, axis->normalized()));
+    }
+    aa->finish();
+  }
+  r.finish();
+}
+
+void read_coupling(ObjectReader& r, CouplingConfig& c) {
+  if (auto v = r.number("stiffness_N_m", Need::kOptional, Range::positive(1e5), "N/m")) {
+    c.stiffness_N_m = *v;
+  }
+  if (auto v = r.number("damping_Ns_m", Need::kOptional, Range::closed(0.0, 1e4), "N·s/m")) {
+    c.damping_Ns_m = *v;
+  }
+  if (auto v = r.number("rot_stiffness_Nm_rad", Need::kOptional, Range::positive(1e3), "N·m/rad")) {
+    c.rot_stiffness_Nm_rad = *v;
+  }
+  if (auto v = r.number("rot_damping_Nms_rad", Need::kOptional, Range::closed(0.0, 1e3), "N·m·s/rad")) {
+    c.rot_damping_Nms_rad = *v;
+  }
+  r.finish();
+}
+
+std::vector<std::string> preset_names() {
+  std::vector<std::string> out;
+  for (const DevicePreset& p : device_presets()) out.emplace_back(p.name);
+  return out;
+}
+
+void read_device(ObjectReader& r, DeviceConfig& d) {
+  const bool has_preset = r.has("preset");
+  if (auto p = r.string("preset", Need::kOptional, true, preset_names())) {
+    const DevicePreset* preset = find_device_preset(*p);
+    d.name = preset->name;
+    d.max_force_N = preset->max_force_N;
+  }
+  if (auto s = r.string("name", Need::kOptional)) d.name = *s;
+  else if (!has_preset) d.name = "custom";
+  // Without a preset the rated force must be stated: a wrong limit is felt by the user.
+  if (auto v = r.number("max_force_N", has_preset ? Need::kOptional : Need::kRequiredHere,
+                        Range::positive(100.0), "N")) {
+    d.max_force_N = *v;
+  }
+  if (auto v = r.number("max_force_rate_N_s", Need::kOptional, Range::positive(1e6), "N/s")) {
+    d.max_force_rate_N_s = *v;
+  }
+  if (auto v = r.number("ramp_in_s", Need::kOptional, Range::closed(0.0, 60.0), "s")) d.ramp_in_s = *v;
+  if (auto v = r.quantity(length("max_jump"), Need::kOptional, Range::positive(1.0))) d.max_jump_m = *v;
+  r.finish();
+}
+
+void read_solver(ObjectReader& r, SolverConfig& s) {
+  if (auto v = r.quantity(duration("dt"), Need::kOptional, Range::positive(10e-3))) s.dt_s = *v;
+  if (auto v = r.integer("substeps", Need::kOptional, Range::closed(1, 1000))) s.substeps = *v;
+  if (auto v = r.integer("max_iterations", Need::kOptional, Range::closed(1, 10000))) {
+    s.max_iterations = *v;
+  }
+  if (auto v = r.number("tolerance", Need::kOptional, Range::positive(0.5))) s.tolerance = *v;
+  if (auto v = r.boolean("sleep_enabled", Need::kOptional)) s.sleep_enabled = *v;
+  if (auto v = r.quantity(speed("sleep_speed"), Need::kOptional, Range::closed(0.0, 1.0))) {
+    s.sleep_speed_m_s = *v;
+  }
+  if (auto v = r.quantity(length("sleep_distance"), Need::kOptional, Range::closed(0.0, 0.1))) {
+    s.sleep_distance_m = *v;
+  }
+  r.finish();
+}
+
+void read_removal(ObjectReader& r, RemovalRegionConfig& reg, const NucleusConfig& nucleus) {
+  auto min = r.vector3(length("min"), Need::kRequired, kCoordinate);
+  auto max = r.vector3(length("max"), Need::kRequired, kCoordinate);
+  if (min && max && check_box(r, "min", "max", *min, *max)) {
+    reg.min_m = *min;
+    reg.max_m = *max;
+    // A block outside the region would count as removed before the trainee touches it.
+    for (std::size_t i = 0; i < nucleus.blocks.size(); ++i) {
+      const ParticleBlockConfig& b = nucleus.blocks[i];
+      if ((b.max_m.array() <= b.min_m.array()).any()) continue;  // already reported
+      if ((b.min_m.array() >= reg.min_m.array()).all() && (b.max_m.array() <= reg.max_m.array()).all()) {
+        continue;
+      }
+      r.context().error_located(r.pointer(), r.pointer(),
+                                "removal region does not contain nucleus block " + std::to_string(i) +
+                                    " (got region " + vec_text(reg.min_m, kMm, "mm") + " to " +
+                                    vec_text(reg.max_m, kMm, "mm") + ", block " +
+                                    vec_text(b.min_m, kMm, "mm") + " to " + vec_text(b.max_m, kMm, "mm") +
+                                    ", expected the block inside the region)");
+    }
+  }
+  r.finish();
+}
+
+void read_world(ObjectReader& r, WorldConfig& w) {
+  if (auto g = r.vector3(plain("gravity_m_s2", "m/s²"), Need::kOptional, Range::closed(-100.0, 100.0))) {
+    w.gravity_m_s2 = *g;
+  }
+  if (auto o = r.object("ground", Need::kOptional)) read_ground(*o, w.ground);
+  if (auto o = r.object("box", Need::kOptional)) read_box(*o, w.box);
+  if (auto o = r.object("nucleus", Need::kOptional)) read_nucleus(*o, w.nucleus);
+  if (auto o = r.object("instrument", Need::kOptional)) read_instrument(*o, w.instrument);
+  if (auto o = r.object("instrument_start", Need::kOptional)) read_instrument_start(*o, w.instrument_start);
+  if (auto o = r.object("coupling", Need::kOptional)) read_coupling(*o, w.coupling);
+  if (auto o = r.object("device", Need::kOptional)) read_device(*o, w.device);
+  if (auto o = r.object("solver", Need::kOptional)) read_solver(*o, w.solver);
+  // Removal is what the nucleus is scored by, so a scene with a nucleus must say where it is.
+  const bool nucleus_declared = r.has("nucleus");
+  if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequiredHere : Need::kOptional)) {
+    read_removal(*o, w.removal, w.nucleus);
+  }
+  r.finish();
+}
+
+// ---------------------------------------------------------------------------------------------
+// rubric
+
+void read_rubric(ObjectReader& r, Rubric& rubric) {
+  const std::vector<std::string>& metrics = known_metric_names();
+  for (ObjectReader& tr : r.objects("terms", Need::kRequired, 1)) {
+    RubricTerm t;
+    if (auto s = tr.string("metric", Need::kRequired, true, metrics, "the metric to score")) t.metric = *s;
+    if (auto v = tr.number("expert_mean", Need::kRequired, Range::any())) t.expert_mean = *v;
+    if (auto v = tr.number("expert_sd", Need::kRequired, {0.0, std::nullopt, true, false})) {
+      t.expert_sd = *v;
+    }
+    if (auto v = tr.boolean("higher_is_better", Need::kRequired)) t.higher_is_better = *v;
+    if (auto v = tr.number("weight", Need::kOptional, Range::closed(0.0, 1000.0))) t.weight = *v;
+    tr.finish();
+    rubric.terms.push_back(t);
+  }
+  // Every graded module states at least one safety gate (each safety metric passes on its own).
+  for (ObjectReader& gr : r.objects("gates", Need::kRequired, 1)) {
+    SafetyGate g;
+    if (auto s = gr.string("metric", Need::kRequired, true, metrics, "the metric to limit")) g.metric = *s;
+    if (auto v = gr.number("max", Need::kRequired, Range::any())) g.max = *v;
+    gr.finish();
+    rubric.gates.push_back(g);
+  }
+  if (!rubric.terms.empty()) {
+    double total = 0.0;
+    for (const RubricTerm& t : rubric.terms) total += t.weight;
+    if (!(total > 0.0)) {
+      r.context().error(r.child("terms"),
+                        "all weights are zero (got total weight 0, expected a positive total)");
+    }
+  }
+  if (auto v = r.number("pass_score", Need::kOptional, Range::closed(0.0, 100.0))) rubric.pass_score = *v;
+  if (auto v = r.integer("consecutive_passes_to_master", Need::kOptional, Range::closed(1, 100))) {
+    rubric.consecutive_passes_to_master = *v;
+  }
+  r.finish();
+}
+
+// ---------------------------------------------------------------------------------------------
+// document
+
+void read_document(ObjectReader& r, ScenarioModel& m) {
+  // "$schema" lets an editor find scenario.schema.json; it has no meaning for the loader.
+  r.string("$schema", Need::kOptional);
+  if (auto v = r.integer("format_version", Need::kRequired, Range::any(), "the format version, 1")) {
+    if (*v != 1) {
+      r.context().error(r.child("format_version"),
+                        "unsupported format version (got " + std::to_string(*v) + ", expected 1)");
+    }
+    m.format_version = *v;
+  }
+  if (auto s = r.string("id", Need::kRequired, true, {}, "the module id, e.g. \"box-warmup\"")) {
+    static const std::regex kId("[a-z0-9][a-z0-9_-]*");
+    if (!std::regex_match(*s, kId) || s->size() > 64) {
+      r.context().error(r.child("id"),
+                        "bad module id (got " + in_quotes(s->substr(0, 64)) +
+                            ", expected up to 64 lower-case letters, digits, '-' or '_', "
+                            "starting with a letter or digit)");
+    }
+    m.id = *s;
+  }
+  if (auto s = r.string("title", Need::kRequired, true, {}, "the title shown to trainees")) m.title = *s;
+  if (auto s = r.string("goal", Need::kRequired, true, {}, "the learning goal in plain words")) m.goal = *s;
+  if (auto v = r.integer("module_order", Need::kOptional, Range::closed(0, 10000))) m.module_order = *v;
+  if (auto v = r.number("time_limit_s", Need::kOptional, Range::closed(0.0, 86400.0), "s")) {
+    m.time_limit_s = *v;
+  }
+  if (auto o = r.object("world", Need::kRequired)) read_world(*o, m.world);
+  if (auto o = r.object("rubric", Need::kRequired)) read_rubric(*o, m.rubric);
+  r.finish();
+}
+
+/// nlohmann's messages start "[json.exception.parse_error.101] parse error at line 3,
+/// column 5: "; keep what follows (our own prefix gives the position).
+std::string parse_detail(const std::string& what) {
+  std::string detail = what;
+  const std::size_t bracket = detail.find("] ");
+  if (detail.rfind("[json.exception.", 0) == 0 && bracket != std::string::npos) {
+    detail = detail.substr(bracket + 2);
+  }
+  if (detail.rfind("parse error", 0) == 0) {
+    const std::size_t colon = detail.find(": ");
+    if (colon != std::string::npos) detail = detail.substr(colon + 2);
+  }
+  return detail;
+}
+
+}  // namespace
+
+LoadResult load_scenario_text(const std::string& text, const std::string& path_for_messages) {
+  return load_scenario_text(text, path_for_messages, nullptr);
+}
+
+LoadResult load_scenario_text(const std::string& text, const std::string& path,
+                              KeyRegistry* registry) {
+  LoadResult result;
+  auto fail = [&](int line, int column, std::string message) {
+    result.errors.push_back({path, line, column, "", std::move(message)});
+    return result;
+  };
+  if (text.size() > kMaxScenarioFileBytes) {
+    return fail(1, 1, "file too large (got " + std::to_string(text.size()) + " bytes, expected at most " +
+                          std::to_string(kMaxScenarioFileBytes) + ")");
+  }
+
+  // Parse. nlohmann's parser is iterative, so deep nesting cannot exhaust the stack.
+  json doc;
+  try {
+    doc = json::parse(text, nullptr, true, false);
+  } catch (const json::parse_error& e) {
+    const JsonPositionIndex lines = JsonPositionIndex::lines_only(text);
+    std::size_t offset = e.byte == 0 ? 0 : e.byte - 1;
+    const bool at_end = e.byte >= text.size();
+    if (at_end) {
+      // Point just after the last thing written, not at an empty last line.
+      const std::size_t last = text.find_last_not_of(" \t\r\n");
+      offset = last == std::string::npos ? 0 : last + 1;
+    }
+    const TextPosition at = lines.position_of_offset(std::min(offset, text.size()));
+    std::string message = "malformed JSON at column " + std::to_string(at.column) + ": " +
+                          parse_detail(e.what());
+    if (at_end) message = "the file ends before the JSON is complete (truncated?): " + parse_detail(e.what());
+    return fail(at.line, at.column, message);
+  } catch (const json::exception& e) {
+    // Number overflow (e.g. 1e400) is reported without a position; find the literal.
+    std::string what = e.what();
+    const JsonPositionIndex lines = JsonPositionIndex::lines_only(text);
+    TextPosition at{1, 1};
+    const std::size_t q1 = what.find('\''), q2 = what.rfind('\'');
+    if (q1 != std::string::npos && q2 > q1) {
+      const std::size_t found = text.find(what.substr(q1 + 1, q2 - q1 - 1));
+      if (found != std::string::npos) at = lines.position_of_offset(found);
+    }
+    return fail(at.line, at.column, "malformed JSON: " + parse_detail(what) +
+                                        " (expected a number within double precision range)");
+  }
+
+  std::vector<DuplicateKey> duplicates;
+  const JsonPositionIndex index(text, &duplicates);
+  LoadContext ctx(path, index, registry);
+  for (const DuplicateKey& d : duplicates) {
+    ctx.error_located(d.json_path, d.json_path,
+                      "duplicate key (first at line " + std::to_string(d.first.line) +
+                          "; expected each key once, the later value would silently win)");
+    ctx.errors().back().line = d.second.line;
+    ctx.errors().back().column = d.second.column;
+  }
+
+  auto model = std::make_shared<ScenarioModel>();
+  model->path = path;
+  model->hash = fnv1a64_hex(text);
+  ObjectReader root(ctx, doc, "", "");
+  if (root.valid()) read_document(root, *model);
+
+  result.errors = std::move(ctx.errors());
+  std::stable_sort(result.errors.begin(), result.errors.end(),
+                   [](const ScenarioError& a, const ScenarioError& b) { return a.line < b.line; });
+  if (result.errors.empty()) result.model = std::move(model);
+  return result;
+}
+
+LoadResult load_scenario_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    LoadResult r;
+    r.errors.push_back({path, 0, 0, "", "cannot open the file (expected a readable scenario file)"});
+    return r;
+  }
+  // Read at most one byte more than the limit, so a huge file is refused without reading it all.
+  std::string text(kMaxScenarioFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) {
+    LoadResult r;
+    r.errors.push_back({path, 0, 0, "", "cannot read the file (expected a readable scenario file)"});
+    return r;
+  }
+  return load_scenario_text(text, path, nullptr);
+}
+
+}  // namespace acdr
