@@ -313,6 +313,27 @@ std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_;
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
 void Nucleus::set_gravity(const Vec3& g) { gravity_ = g; }
 std::size_t Nucleus::pair_count() const { return pairs_; }
+
+double Nucleus::kinetic_energy_J() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < x_.size(); ++i) e += 0.5 * mass_[i] * v_[i].squaredNorm();
+  return e;
+}
+
+double Nucleus::mechanical_energy_J() const {
+  double e = kinetic_energy_J();
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    e -= mass_[i] * gravity_.dot(x_[i]);
+    if (kappa_[i] > 0.0) e += 0.5 * volume_ * pressure_[i] * pressure_[i] / kappa_[i];
+  }
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+    if (!bond_alive_[b]) continue;
+    const double stretch =
+        min_image(x_[bond_ij_[2 * b + 1]] - x_[bond_ij_[2 * b]]).norm() - bond_rest_[b];
+    e += 0.5 * bond_k_[b] * stretch * stretch;
+  }
+  return e;
+}
 double Nucleus::spacing_m() const { return h_; }
 
 std::uint64_t Nucleus::state_hash() const {
@@ -977,7 +998,12 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double tiny = 1e-4 * h_;
   for (std::size_t k = 0; k < active_count_; ++k) {
     const std::size_t i = active_[k];
-    for (std::size_t c_idx = 0; c_idx < n_static + moving.size(); ++c_idx) {
+    // Statics, then the moving bodies, then the statics again: a particle squeezed between
+    // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
+    // overlap with the instrument is pushed out over the next steps).
+    const std::size_t n_all = n_static + moving.size();
+    for (std::size_t pass = 0; pass < n_all + (moving.empty() ? 0 : n_static); ++pass) {
+      const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
       const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
       const Pose& start = c.pose;
