@@ -196,6 +196,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   site_w_.clear();
   site_r2_.clear();
   site_wv_.clear();
+  site_len_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -211,7 +212,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         site_w_.push_back(kernel(r, density_radius_));
         site_wv_.push_back(wv);
         site_r2_.push_back(r * r);
+        site_len_.push_back(r);
       }
+
+  build_wall_table();
 
   const std::size_t n = setup.positions_m.size();
   x_ = setup.positions_m;
@@ -617,9 +621,20 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       // coefficient in assemble()). On the lattice this is mu A / d for the first layer.
       w.grad = Vec3::Zero();
       w.visc = Eigen::Matrix3d::Zero();
-      if (d < wall_range) {
+      int face_axis = -1;
+      if (d < wall_range && flat_face(c, x_[i], d, normal, &face_axis)) {
+        // An axis-aligned flat face seen by every site: the sums depend on d only (table).
+        const WallTableEntry e = wall_table_at(d);
+        density_[i] += e.n;
+        second_moment_[i] += e.s2;
+        w.grad = e.grad * normal;
+        w.visc = e.visc_t * Eigen::Matrix3d::Identity();
+        w.visc(face_axis, face_axis) = e.visc_n;
+      } else if (d < wall_range) {
         const double d_eff = std::max(d, 0.25 * h_);
         for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+          // sd(site) >= d - |offset|: a site that far cannot be occupied.
+          if (d - site_len_[o] >= 0.5 * h_) continue;
           const Vec3 q = x_[i] + site_offset_[o];
           Vec3 nq;
           const double sd = signed_distance(c, q, &nq);
@@ -687,6 +702,70 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       con_v_[i] = vc;
     }
   }
+}
+
+// Whether particle x at distance d sees collider c as one axis-aligned flat face within the
+// whole site neighbourhood (a half-space, or a box face far enough from the face's edges and
+// thick enough), so the tabulated wall sums apply. `axis` receives the normal's axis.
+bool Nucleus::flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal,
+                        int* axis) const {
+  const Quat& q = c.pose.orientation;
+  if (std::abs(std::abs(q.w()) - 1.0) > 1e-12) return false;  // rotated
+  int a = -1;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(normal[k]) - 1.0) < 1e-12) a = k;
+  if (a < 0) return false;
+  *axis = a;
+  if (c.kind == ColliderKind::kHalfSpace) return a == 2;
+  if (c.kind != ColliderKind::kBox) return false;
+  // The face's extent must cover every site within R (lateral margin R) and the solid must be
+  // as deep as the sites reach (R - d; the few sites near the far face then differ from the
+  // half-space value by at most a few percent of one site's weight).
+  const Vec3 local = x - c.pose.position;
+  if (d < 0.0) return false;
+  for (int k = 0; k < 3; ++k) {
+    if (k == a) continue;
+    if (std::abs(local[k]) > c.half_extents_m[k] - radius_) return false;
+  }
+  return 2.0 * c.half_extents_m[a] >= radius_ - d;
+}
+
+// Wall sums of a flat face normal to +z at distance d, sampled over [-h/2, R + h/2].
+void Nucleus::build_wall_table() {
+  const int samples = static_cast<int>(wall_table_.size());
+  const double lo = -0.5 * h_, hi = radius_ + 0.5 * h_;
+  wall_table_step_ = (hi - lo) / (samples - 1);
+  wall_table_lo_ = lo;
+  for (int k = 0; k < samples; ++k) {
+    const double d = lo + k * wall_table_step_;
+    const double d_eff = std::max(d, 0.25 * h_);
+    WallTableEntry e{};
+    for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+      const double sd = d + site_offset_[o].z();
+      double slope = 0.0;
+      const double occ = occupancy(sd, h_, &slope);
+      if (occ <= 0.0) continue;
+      const Vec3 u = site_offset_[o] / site_len_[o];
+      const double vw = occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff);
+      e.n += occ * site_w_[o];
+      e.s2 += occ * site_wv_[o] * site_r2_[o];
+      e.grad += slope * site_w_[o] / n0_;
+      e.visc_n += vw * u.z() * u.z();
+      e.visc_t += vw * u.x() * u.x();
+    }
+    wall_table_[k] = e;
+  }
+}
+
+Nucleus::WallTableEntry Nucleus::wall_table_at(double d) const {
+  const double u = std::clamp((d - wall_table_lo_) / wall_table_step_, 0.0,
+                              static_cast<double>(wall_table_.size() - 1));
+  const std::size_t k = std::min(static_cast<std::size_t>(u), wall_table_.size() - 2);
+  const double f = u - k;
+  const WallTableEntry& a = wall_table_[k];
+  const WallTableEntry& b = wall_table_[k + 1];
+  return {a.n + f * (b.n - a.n), a.s2 + f * (b.s2 - a.s2), a.grad + f * (b.grad - a.grad),
+          a.visc_n + f * (b.visc_n - a.visc_n), a.visc_t + f * (b.visc_t - a.visc_t)};
 }
 
 // Per-step coefficients, right-hand side and block-Jacobi preconditioner.

@@ -131,6 +131,16 @@ class Nucleus {
                              std::span<BodyReaction> reactions);
   void break_bonds();
   Vec3 min_image(const Vec3& d) const;
+  struct WallTableEntry {
+    double n = 0.0;       // density share
+    double s2 = 0.0;      // second-moment share, m^2
+    double grad = 0.0;    // d(density)/dd / n0 along the normal, 1/m
+    double visc_n = 0.0;  // no-slip tensor, normal component
+    double visc_t = 0.0;  // no-slip tensor, tangential components
+  };
+  bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
+  void build_wall_table();
+  WallTableEntry wall_table_at(double d) const;
 
   NucleusConfig config_;
   SolverConfig solver_;
@@ -150,6 +160,9 @@ class Nucleus {
   std::vector<double> site_w_;     // their kernel weights
   std::vector<double> site_r2_;    // their squared lengths, m^2
   std::vector<double> site_wv_;    // their viscous weights
+  std::vector<double> site_len_;   // their lengths, m
+  std::array<WallTableEntry, 1024> wall_table_{};  // flat-face wall sums over d
+  double wall_table_lo_ = 0.0, wall_table_step_ = 1.0;
 
   // Particles (N each).
   std::vector<Vec3> x_;          // positions, m
