@@ -277,6 +277,23 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   far_n_.resize(pair_cap);
   far_r_.resize(pair_cap);
   far_bond_.resize(pair_cap);
+  skin_ = options_.skin_factor * h_;
+  {
+    // Candidates within R + skin: the lattice count within that reach, with room for 50 %
+    // compression of the neighbourhood.
+    std::size_t lattice = 0;
+    const double reach = options_.neighbor_radius_factor + options_.skin_factor;
+    const int m = static_cast<int>(std::ceil(reach));
+    for (int a = -m; a <= m; ++a)
+      for (int b = -m; b <= m; ++b)
+        for (int c = -m; c <= m; ++c)
+          if (a * a + b * b + c * c > 0 && a * a + b * b + c * c < reach * reach) ++lattice;
+    const std::size_t cand_cap = std::max<std::size_t>(16, n * lattice * 3 / 4);
+    cand_ij_.resize(2 * cand_cap);
+    cand_bond_.resize(cand_cap);
+  }
+  x_built_.assign(n, Vec3::Zero());
+  candidates_valid_ = false;
   bond_in_pair_.assign(nb, 0);
   loose_.assign(nb, 0);
   // Bonds of each particle (CSR), to find a pair's bond.
@@ -475,20 +492,64 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
   }
 }
 
+// Candidate pairs (a Verlet list, Verlet 1967): every pair closer than R + skin, found on the
+// hashed grid and kept until some particle has moved more than skin / 2 since, so no pair
+// within R can be missing. Rebuilding costs a grid query per particle; a step between rebuilds
+// only re-measures the candidates.
+void Nucleus::rebuild_candidates() {
+  const std::size_t n = x_.size();
+  const double reach = radius_ + skin_;
+  grid_.build(x_, reach, options_.periodic, options_.periodic_min_m, options_.periodic_max_m);
+  const double reach2 = reach * reach;
+  candidates_ = 0;
+  const std::size_t cap = cand_bond_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    grid_.for_each_candidate(i, [&](std::size_t j) {
+      if (j <= i) return;
+      if (min_image(x_[j] - x_[i]).squaredNorm() >= reach2) return;
+      if (candidates_ >= cap) {
+        pairs_overflow_ = true;
+        return;
+      }
+      std::int32_t bond = -1;
+      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
+        const std::int32_t b = bond_adj_[k];
+        if (bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
+          bond = b;
+          break;
+        }
+      }
+      cand_ij_[2 * candidates_] = static_cast<std::int32_t>(i);
+      cand_ij_[2 * candidates_ + 1] = static_cast<std::int32_t>(j);
+      cand_bond_[candidates_] = bond;
+      ++candidates_;
+    });
+  }
+  std::copy(x_.begin(), x_.end(), x_built_.begin());
+  candidates_valid_ = true;
+}
+
 void Nucleus::build_pairs() {
   const std::size_t n = x_.size();
-  grid_.build(x_, radius_, options_.periodic, options_.periodic_min_m, options_.periodic_max_m);
+  pairs_overflow_ = false;
+  // Rebuild the candidates when some particle has moved more than skin / 2 since.
+  bool rebuild = !candidates_valid_;
+  const double half_skin2 = 0.25 * skin_ * skin_;
+  for (std::size_t i = 0; i < n && !rebuild; ++i)
+    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
+  if (rebuild) rebuild_candidates();
+
   const double R2 = radius_ * radius_;
   std::fill(halo_.begin(), halo_.end(), 0);
   // Halo: frozen particles next to awake ones. Their density must be complete (they push on
   // the awake ones through their pressure), so their pairs are kept too.
   if (active_count_ < n) {
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      grid_.for_each_candidate(i, [&](std::size_t j) {
-        if (awake_[j] || halo_[j]) return;
-        if (min_image(x_[j] - x_[i]).squaredNorm() < R2) halo_[j] = 1;
-      });
+    for (std::size_t c = 0; c < candidates_; ++c) {
+      const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
+      if (awake_[i] == awake_[j]) continue;
+      const std::int32_t sleeper = awake_[i] ? j : i;
+      if (halo_[sleeper]) continue;
+      if (min_image(x_[j] - x_[i]).squaredNorm() < R2) halo_[sleeper] = 1;
     }
   }
   // Pairs closer than the density radius ("near": they carry pressure as well as viscosity)
@@ -497,49 +558,38 @@ void Nucleus::build_pairs() {
   pairs_ = 0;
   near_pairs_ = 0;
   std::size_t far = 0;
-  pairs_overflow_ = false;
   const std::size_t cap = pair_r_.size();
   const double Rd2 = density_radius_ * density_radius_;
   for (std::size_t b = 0; b < bond_alive_.size(); ++b) bond_in_pair_[b] = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!awake_[i] && !halo_[i]) continue;
-    grid_.for_each_candidate(i, [&](std::size_t j) {
-      if (j == i) return;
-      const bool j_in = awake_[j] || halo_[j];
-      if (j_in && j < i) return;  // counted from j
-      const Vec3 d = min_image(x_[j] - x_[i]);
-      const double r2 = d.squaredNorm();
-      if (r2 >= R2 || r2 <= 0.0) return;
-      if (near_pairs_ + far >= cap) {
-        pairs_overflow_ = true;
-        return;
-      }
-      std::int32_t bond = -1;
-      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
-        const std::int32_t b = bond_adj_[k];
-        if (bond_alive_[b] && bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
-          bond = b;
-          bond_in_pair_[b] = 1;
-          break;
-        }
-      }
-      const double r = std::sqrt(r2);
-      if (r2 < Rd2) {
-        const std::size_t p = near_pairs_++;
-        pair_ij_[2 * p] = static_cast<std::int32_t>(i);
-        pair_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
-        pair_r_[p] = r;
-        pair_n_[p] = d / r;
-        pair_bond_[p] = bond;
-      } else {
-        const std::size_t p = far++;
-        far_ij_[2 * p] = static_cast<std::int32_t>(i);
-        far_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
-        far_r_[p] = r;
-        far_n_[p] = d / r;
-        far_bond_[p] = bond;
-      }
-    });
+  for (std::size_t c = 0; c < candidates_; ++c) {
+    const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
+    if (!awake_[i] && !halo_[i] && !awake_[j] && !halo_[j]) continue;
+    const Vec3 d = min_image(x_[j] - x_[i]);
+    const double r2 = d.squaredNorm();
+    if (r2 >= R2 || r2 <= 0.0) continue;
+    if (near_pairs_ + far >= cap) {
+      pairs_overflow_ = true;
+      break;
+    }
+    std::int32_t bond = cand_bond_[c];
+    if (bond >= 0 && !bond_alive_[bond]) bond = -1;
+    if (bond >= 0) bond_in_pair_[bond] = 1;
+    const double r = std::sqrt(r2);
+    if (r2 < Rd2) {
+      const std::size_t p = near_pairs_++;
+      pair_ij_[2 * p] = i;
+      pair_ij_[2 * p + 1] = j;
+      pair_r_[p] = r;
+      pair_n_[p] = d / r;
+      pair_bond_[p] = bond;
+    } else {
+      const std::size_t p = far++;
+      far_ij_[2 * p] = i;
+      far_ij_[2 * p + 1] = j;
+      far_r_[p] = r;
+      far_n_[p] = d / r;
+      far_bond_[p] = bond;
+    }
   }
   pairs_ = near_pairs_ + far;
   for (std::size_t p = 0; p < far; ++p) {
