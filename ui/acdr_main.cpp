@@ -5,8 +5,10 @@
 
 #include "ui/commands/make_trajectory_command.hpp"
 #include "ui/commands/render_command.hpp"
+#include "ui/commands/report_command.hpp"
 #include "ui/commands/rescore_command.hpp"
 #include "ui/commands/run_command.hpp"
+#include "ui/commands/validate_command.hpp"
 
 
 int main(int argc, char** argv) {
@@ -29,6 +31,22 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--json", run.json, "Print the result as JSON on stdout");
   run_cmd->add_flag("--headless", run.headless, "No window (the only mode in this build)");
   run_cmd->callback([&] { code = acdr::run_run(run, std::cout, std::cerr); });
+
+  // acdr validate
+  std::vector<std::string> validate_files;
+  auto* validate_cmd = app.add_subcommand("validate", "Check scenario files");
+  validate_cmd->add_option("files", validate_files, "Scenario files")->required();
+  validate_cmd->callback([&] { code = acdr::run_validate(validate_files, std::cout); });
+
+  // acdr report
+  acdr::ReportOptions report;
+  auto* report_cmd = app.add_subcommand("report", "Attempts and progress from the database");
+  report_cmd->add_option("--db", report.db_path, "Database file");
+  report_cmd->add_option("--trainee", report.trainee, "Only this trainee");
+  report_cmd->add_option("--module", report.module, "Only this module");
+  report_cmd->add_option("--format", report.format, "table, csv, json or xapi")
+      ->check(CLI::IsMember({"table", "csv", "json", "xapi"}));
+  report_cmd->callback([&] { code = acdr::run_report(report, std::cout, std::cerr); });
 
   // acdr render
   acdr::RenderOptions render;
