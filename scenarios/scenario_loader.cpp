@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -541,6 +542,15 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
 }
 
 LoadResult load_scenario_file(const std::string& path) {
+  // A directory reads as empty and a FIFO without a writer would block forever: refuse both.
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (!ec && (std::filesystem::is_directory(st) || std::filesystem::is_fifo(st) ||
+              std::filesystem::is_socket(st))) {
+    LoadResult r;
+    r.errors.push_back({path, 0, 0, "", "not a regular file (expected a scenario file)"});
+    return r;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     LoadResult r;
