@@ -1,0 +1,62 @@
+// Composite score (UCSF ATOSS 50 + 10·z convention) and gates (every safety metric must pass
+// on its own, as in the da Vinci MScore; REFERENCES.md, Assessment anchors).
+#include "assessment/scoring.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace acdr {
+
+ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
+  ScoreResult r;
+  double weighted = 0, weights = 0;
+  for (const RubricTerm& term : rubric.terms) {
+    const double* value = metrics.find(term.metric);
+    TermScore ts;
+    ts.metric = term.metric;
+    if (!value) {
+      r.reasons.push_back("metric '" + term.metric + "' was not measured");
+      ts.score = 0;
+    } else {
+      ts.value = *value;
+      const double sd = term.expert_sd > 0 ? term.expert_sd : 1.0;
+      double z = (*value - term.expert_mean) / sd;
+      if (!term.higher_is_better) z = -z;
+      ts.score = std::clamp(50.0 + 10.0 * z, 0.0, 100.0);
+    }
+    weighted += term.weight * ts.score;
+    weights += term.weight;
+    r.terms.push_back(ts);
+  }
+  r.score = weights > 0 ? weighted / weights : 0.0;
+
+  bool gates_ok = true;
+  for (const SafetyGate& gate : rubric.gates) {
+    const double* value = metrics.find(gate.metric);
+    GateResult g{gate.metric, value ? *value : 0.0, gate.max, value && *value <= gate.max};
+    if (!g.passed) {
+      gates_ok = false;
+      char text[200];
+      if (value)
+        std::snprintf(text, sizeof text, "%s = %g is above its limit %g", gate.metric.c_str(),
+                      *value, gate.max);
+      else
+        std::snprintf(text, sizeof text, "%s was not measured", gate.metric.c_str());
+      r.reasons.push_back(text);
+    }
+    r.gates.push_back(g);
+  }
+  const double* numerical = metrics.find("numerical_events");
+  const bool numerics_ok = !numerical || *numerical == 0;
+  if (!numerics_ok) r.reasons.push_back("the simulation reported numerical trouble");
+  if (r.score < rubric.pass_score) {
+    char text[120];
+    std::snprintf(text, sizeof text, "composite score %.1f is below the pass score %.1f", r.score,
+                  rubric.pass_score);
+    r.reasons.push_back(text);
+  }
+  r.passed = gates_ok && numerics_ok && r.score >= rubric.pass_score;
+  return r;
+}
+
+}  // namespace acdr

@@ -1,0 +1,14 @@
+// Turns metrics into a composite score and a pass decision under a scenario's rubric.
+#pragma once
+
+#include "assessment/attempt_result.hpp"
+#include "assessment/rubric.hpp"
+
+namespace acdr {
+
+/// Composite = weighted mean over terms of clip(50 + 10*z, 0, 100), z the metric's distance
+/// from the expert mean in expert SDs (sign so that better is higher). Passes when the
+/// composite reaches pass_score, every gate holds, and no numerical failure occurred.
+ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric);
+
+}  // namespace acdr

@@ -1,0 +1,80 @@
+// The life of an attempt in the record: begun (`running`, committed at once, before the first
+// device packet), optionally checkpointed, then finished in one transaction (`completed`) — or
+// found `aborted` when its process is gone. Also reading attempts back.
+//
+// The abort rule (mark_interrupted_attempts): a `running` attempt is aborted when the process
+// that began it can no longer be writing, judged by writer_identity.hpp: the pid is gone, is a
+// zombie, now belongs to a process started at another time, or the attempt was begun on
+// another host or before a reboot. A process never aborts its own running attempts. The
+// aborted attempt keeps what was committed: its start row and the last checkpoint's events and
+// recording; the uncommitted tail of a killed transaction is discarded by SQLite (WAL).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "db/database.hpp"
+#include "db/records.hpp"
+
+namespace acdr {
+
+/// Opens the record for use by a program: Database::open, then mark_interrupted_attempts, so an
+/// attempt left `running` by a killed run shows as `aborted` from here on.
+DbResult<Database> open_store(const std::string& path, const OpenOptions& options = {});
+
+/// Inserts the attempt as `running` and commits at once; returns its id. A trainee id that is
+/// not registered yet is registered (empty display name). The module must be registered. The
+/// registration UUID is the trainee's existing one for this module, else a new one; a practice
+/// attempt always gets its own. Records this process as the writer.
+DbResult<std::int64_t> begin_attempt(Database& db, const AttemptStart& start);
+
+/// Saves the events and recording so far of a running attempt (each call replaces the previous
+/// checkpoint; `recording` is stored with complete = false) and refreshes its heartbeat, in one
+/// transaction. Costs about the size of what is passed: call every few seconds, not per frame.
+DbStatus checkpoint_attempt(Database& db, std::int64_t attempt_id,
+                            const std::vector<EventRecord>& events,
+                            const RecordingData* recording);
+
+/// Stores metrics, score (with terms, gates, reasons), all events and the recording, sets the
+/// end time and status `completed` — all in ONE transaction: after a crash the attempt is either
+/// completed with everything or still as before. Only a `running` attempt can be finished.
+DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome);
+
+/// Ends a running attempt as `aborted` on purpose (the trainee quit), keeping what was
+/// checkpointed; `reason` is stored.
+DbStatus abort_attempt(Database& db, std::int64_t attempt_id, const std::string& reason);
+
+/// Applies the abort rule above to every `running` attempt; returns the ids it aborted.
+DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(Database& db);
+
+/// Replaces the metrics and score of a completed attempt (re-scoring with a newer rubric), in
+/// one transaction. Status, times, events and recording are kept.
+DbStatus update_attempt_assessment(Database& db, std::int64_t attempt_id, const Metrics& metrics,
+                                   const ScoreResult& score);
+
+/// What load_attempt and list_attempts read besides the attempt row.
+struct AttemptDetail {
+  bool metrics = true;    ///< metrics and score terms/gates/reasons
+  bool events = false;
+  bool recording = false;  ///< decompressed recording bytes
+};
+
+/// One attempt, or nullopt when no attempt has that id.
+DbResult<std::optional<AttemptRecord>> load_attempt(Database& db, std::int64_t attempt_id,
+                                                    const AttemptDetail& detail = {true, true,
+                                                                                   true});
+
+/// Which attempts list_attempts returns.
+struct AttemptFilter {
+  std::optional<std::string> trainee_id;  ///< only this trainee's attempts
+  std::optional<std::string> module_id;   ///< only attempts at this module
+  bool include_practice = true;           ///< attempts without a trainee
+};
+
+/// Attempts in start order (started_utc, then id).
+DbResult<std::vector<AttemptRecord>> list_attempts(Database& db, const AttemptFilter& filter = {},
+                                                   const AttemptDetail& detail = {});
+
+}  // namespace acdr

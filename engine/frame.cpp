@@ -1,0 +1,18 @@
+// Names of engine events, as stored in recordings and shown to users.
+#include "engine/frame.hpp"
+
+namespace acdr {
+
+const char* event_kind_name(EventKind kind) {
+  switch (kind) {
+    case EventKind::kNumerical: return "numerical";
+    case EventKind::kOverloadWarning: return "overload_warning";
+    case EventKind::kOverloadYield: return "overload_yield";
+    case EventKind::kInputRejected: return "input_rejected";
+    case EventKind::kForceClamped: return "force_clamped";
+    case EventKind::kAttemptEnd: return "attempt_end";
+  }
+  return "unknown";
+}
+
+}  // namespace acdr

@@ -1,0 +1,123 @@
+// Result formatting.
+#include "ui/result_format.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "engine/state_hash.hpp"
+
+namespace acdr {
+
+nlohmann::json result_json(const ResultContext& c) {
+  nlohmann::json j;
+  j["scenario"] = c.scenario.path;
+  j["scenario_hash"] = c.scenario.hash;
+  j["module"] = c.scenario.id;
+  j["program_version"] = ACDR_VERSION_STRING;
+  j["duration_s"] = c.world.time_s();
+  j["steps"] = c.world.step_count();
+  j["dt_s"] = c.scenario.world.solver.dt_s;
+  j["end"] = attempt_end_name(c.run.end);
+  j["wall_s"] = c.run.wall_s;
+  j["realtime_factor"] = c.run.wall_s > 0 ? c.world.time_s() / c.run.wall_s : 0.0;
+  j["state_hash"] = hash_hex(c.run.state_hash);
+  // Solver figures: how hard the step worked (mean over the attempt).
+  double iterations = 0, active = 0;
+  int max_iterations = 0;
+  for (const Frame& f : c.run.record.frames) {
+    iterations += f.solver_iterations;
+    active += f.active_particles;
+    max_iterations = std::max(max_iterations, static_cast<int>(f.solver_iterations));
+  }
+  const double frames = std::max<double>(1.0, static_cast<double>(c.run.record.frames.size()));
+  const StageTimes& times = c.world.stage_times();
+  nlohmann::json stages = nlohmann::json::object();
+  for (int s = 0; s < static_cast<int>(StepStage::kCount); ++s)
+    stages[step_stage_name(static_cast<StepStage>(s))] =
+        times.steps > 0 ? 1e3 * times.seconds[s] / static_cast<double>(times.steps) : 0.0;
+  j["solver"] = {{"mean_iterations", iterations / frames},
+                 {"max_iterations", max_iterations},
+                 {"mean_active_particles", active / frames},
+                 {"particles", c.world.nucleus() ? c.world.nucleus()->particle_count() : 0},
+                 {"stage_ms_per_step", stages}};
+  nlohmann::json metrics = nlohmann::json::object();
+  for (const auto& [name, value] : c.run.metrics.values) metrics[name] = value;
+  j["metrics"] = metrics;
+  j["score"] = c.run.score.score;
+  j["passed"] = c.run.score.passed;
+  nlohmann::json terms = nlohmann::json::array();
+  for (const TermScore& t : c.run.score.terms)
+    terms.push_back({{"metric", t.metric}, {"value", t.value}, {"score", t.score}});
+  j["terms"] = terms;
+  nlohmann::json gates = nlohmann::json::array();
+  for (const GateResult& g : c.run.score.gates)
+    gates.push_back(
+        {{"metric", g.metric}, {"value", g.value}, {"max", g.max}, {"passed", g.passed}});
+  j["gates"] = gates;
+  j["reasons"] = c.run.score.reasons;
+  nlohmann::json events = nlohmann::json::array();
+  for (const Event& e : c.run.record.events)
+    events.push_back({{"t_s", e.t_s}, {"kind", event_kind_name(e.kind)}, {"value", e.value},
+                      {"detail", e.detail}});
+  j["events"] = events;
+  j["attempt_id"] = c.attempt_id;
+  j["db"] = c.db_path;
+  if (!c.png_path.empty()) j["png"] = c.png_path;
+  return j;
+}
+
+std::string result_summary(const ResultContext& c) {
+  std::string s;
+  char line[256];
+  auto metric = [&](const char* name) {
+    const double* v = c.run.metrics.find(name);
+    return v ? *v : 0.0;
+  };
+  std::snprintf(line, sizeof line, "%s  (%s)\n", c.scenario.title.c_str(),
+                c.scenario.path.c_str());
+  s += line;
+  std::snprintf(line, sizeof line,
+                "  simulated %.2f s in %.2f s wall (%.2fx real time), %lld steps of %.3g ms; "
+                "ended: %s\n",
+                c.world.time_s(), c.run.wall_s,
+                c.run.wall_s > 0 ? c.world.time_s() / c.run.wall_s : 0.0,
+                static_cast<long long>(c.world.step_count()), c.scenario.world.solver.dt_s * 1e3,
+                attempt_end_name(c.run.end));
+  s += line;
+  std::snprintf(line, sizeof line, "  nucleus removed        %8.1f mm^3  (%.1f %% of the nucleus)\n",
+                metric("nucleus_removed_mm3"), 100.0 * metric("nucleus_removed_fraction"));
+  s += line;
+  std::snprintf(line, sizeof line, "  peak instrument force  %8.3f N\n",
+                metric("peak_instrument_force_N"));
+  s += line;
+  std::snprintf(line, sizeof line,
+                "  peak bending moment    %8.4f N·m (yield %.3f N·m), overload events: %g\n",
+                metric("peak_bending_moment_Nm"), metric("yield_moment_Nm"),
+                metric("overload_events"));
+  s += line;
+  std::snprintf(line, sizeof line, "  tip path               %8.1f mm\n",
+                metric("tip_path_length_mm"));
+  s += line;
+  s += "  score by metric:\n";
+  for (const TermScore& t : c.run.score.terms) {
+    std::snprintf(line, sizeof line, "    %-28s %10.4g  -> %5.1f / 100\n", t.metric.c_str(),
+                  t.value, t.score);
+    s += line;
+  }
+  for (const GateResult& g : c.run.score.gates) {
+    std::snprintf(line, sizeof line, "    gate %-23s %10.4g  (max %g) %s\n", g.metric.c_str(),
+                  g.value, g.max, g.passed ? "ok" : "FAILED");
+    s += line;
+  }
+  std::snprintf(line, sizeof line, "  SCORE %.1f / 100 (pass at %.0f): %s\n", c.run.score.score,
+                c.scenario.rubric.pass_score, c.run.score.passed ? "PASSED" : "NOT PASSED");
+  s += line;
+  for (const std::string& r : c.run.score.reasons) s += "    - " + r + "\n";
+  std::snprintf(line, sizeof line, "  stored as attempt %lld in %s\n",
+                static_cast<long long>(c.attempt_id), c.db_path.c_str());
+  s += line;
+  if (!c.png_path.empty()) s += "  picture of the final frame: " + c.png_path + "\n";
+  return s;
+}
+
+}  // namespace acdr

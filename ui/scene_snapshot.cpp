@@ -1,0 +1,104 @@
+// World -> RenderScene.
+#include "ui/scene_snapshot.hpp"
+
+#include <algorithm>
+
+#include "ui/mesh_primitives.hpp"
+#include "ui/render_camera.hpp"
+
+namespace acdr {
+namespace {
+
+Eigen::Affine3f to_affine(const Pose& p) {
+  Eigen::Affine3f a = Eigen::Affine3f::Identity();
+  a.translate(p.position.cast<float>());
+  a.rotate(p.orientation.cast<float>());
+  return a;
+}
+
+void add_collider(RenderScene& scene, const Collider& c, const Eigen::Vector4f& rgba,
+                  float specular) {
+  RenderMesh mesh;
+  switch (c.kind) {
+    case ColliderKind::kHalfSpace:
+      return;  // drawn as the renderer's ground plane
+    case ColliderKind::kBox:
+      mesh = make_oriented_box(c.half_extents_m.cast<float>(), to_affine(c.pose), rgba);
+      break;
+    case ColliderKind::kCapsule: {
+      const Vec3 a = c.pose.apply(Vec3(0, 0, -c.half_length_m));
+      const Vec3 b = c.pose.apply(Vec3(0, 0, c.half_length_m));
+      mesh = make_capsule(a.cast<float>(), b.cast<float>(), static_cast<float>(c.radius_m), rgba);
+      break;
+    }
+    case ColliderKind::kCupShell: {
+      const Vec3 opening = c.pose.orientation * Vec3::UnitZ();
+      mesh = make_cup_shell(c.pose.position.cast<float>(), opening.cast<float>(),
+                            static_cast<float>(c.radius_m - c.thickness_m),
+                            static_cast<float>(c.thickness_m), rgba);
+      break;
+    }
+  }
+  mesh.specular = specular;
+  scene.meshes.push_back(std::move(mesh));
+}
+
+/// Frames the work area (static solids, particles, the instrument's working end) rather than
+/// the whole scene, whose long shaft would make the disc space small in the picture.
+RenderCamera frame_work_area(const World& world, const RenderScene& scene, float aspect) {
+  Eigen::AlignedBox3d box;
+  for (const Collider& c : world.static_colliders()) {
+    if (c.kind != ColliderKind::kBox) continue;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 local((corner & 1 ? 1 : -1) * c.half_extents_m.x(),
+                       (corner & 2 ? 1 : -1) * c.half_extents_m.y(),
+                       (corner & 4 ? 1 : -1) * c.half_extents_m.z());
+      box.extend(c.pose.apply(local));
+    }
+  }
+  for (const auto& p : scene.particles.positions) box.extend(p.cast<double>());
+  if (const InstrumentGeometry* instrument = world.instrument()) {
+    const Pose grip = world.last_frame().instrument;
+    const double reach = 0.3 * instrument->config().shaft_length_m;
+    box.extend(grip.apply(instrument->working_point()));
+    box.extend(grip.apply(instrument->working_point() + Vec3(0, 0, reach)));
+  }
+  if (box.isEmpty()) return frame_scene(scene, aspect);
+  return frame_bounds(box.min().cast<float>(), box.max().cast<float>(), aspect);
+}
+
+}  // namespace
+
+RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& style) {
+  RenderScene scene;
+  const WorldConfig& config = world.config();
+  scene.ground.visible = config.ground.enabled;
+  if (config.ground.enabled) scene.ground.height_m = static_cast<float>(config.ground.height_m);
+
+  for (const Collider& c : world.static_colliders()) add_collider(scene, c, style.wall, 0.3f);
+  for (const Collider& c : world.instrument_colliders())
+    add_collider(scene, c, style.instrument, 0.7f);
+
+  if (const Nucleus* nucleus = world.nucleus()) {
+    const auto positions = nucleus->positions();
+    const auto materials = nucleus->materials();
+    scene.particles.radius_m = static_cast<float>(0.5 * config.nucleus.spacing_m);
+    scene.particles.positions.reserve(positions.size());
+    scene.particles.colors.reserve(positions.size());
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+      scene.particles.positions.push_back(positions[i].cast<float>());
+      const bool target = materials[i] < config.nucleus.materials.size() &&
+                          config.nucleus.materials[materials[i]].counts_as_target;
+      scene.particles.colors.push_back(world.is_removed(i) ? style.removed
+                                       : target           ? style.nucleus
+                                                          : style.annulus);
+    }
+  }
+  // Translucent meshes last (the renderer sorts them back to front).
+  std::stable_partition(scene.meshes.begin(), scene.meshes.end(),
+                        [](const RenderMesh& m) { return m.rgba.w() >= 1.0f; });
+  scene.camera = frame_work_area(world, scene, aspect);
+  return scene;
+}
+
+}  // namespace acdr

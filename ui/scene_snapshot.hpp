@@ -1,0 +1,22 @@
+// Turns the state of a World into a RenderScene: static solids, the instrument and the
+// particles, coloured by material and by whether they have been removed.
+#pragma once
+
+#include "engine/world.hpp"
+#include "ui/render_scene.hpp"
+
+namespace acdr {
+
+/// Colours of the scene (RGBA).
+struct SceneStyle {
+  Eigen::Vector4f wall{0.55f, 0.63f, 0.75f, 0.35f};  ///< translucent, so the nucleus shows
+  Eigen::Vector4f instrument{0.72f, 0.74f, 0.78f, 1.0f};
+  Eigen::Vector4f nucleus{0.93f, 0.80f, 0.45f, 1.0f};
+  Eigen::Vector4f annulus{0.86f, 0.86f, 0.92f, 1.0f};
+  Eigen::Vector4f removed{0.95f, 0.42f, 0.22f, 1.0f};  ///< material that left the removal region
+};
+
+/// The scene as it is now, framed by a default camera for an image of the given aspect.
+RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& style = {});
+
+}  // namespace acdr
