@@ -36,6 +36,9 @@ std::vector<UnitKey> mass(const std::string& base) {
 std::vector<UnitKey> stress(const std::string& base) {
   return {{base + "_MPa", 1e6, "MPa"}, {base + "_Pa", 1.0, "Pa"}};
 }
+std::vector<UnitKey> modulus(const std::string& base) {
+  return {{base + "_kPa", 1e3, "kPa"}, {base + "_Pa", 1.0, "Pa"}};
+}
 std::vector<UnitKey> duration(const std::string& base) {
   return {{base + "_ms", 1e-3, "ms"}, {base + "_s", 1.0, "s"}};
 }
@@ -109,6 +112,9 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
   }
   if (auto v = r.quantity(length("bond_break"), Need::kOptional, Range::positive(10 * kMm))) {
     m.bond_break_m = *v;
+  }
+  if (auto v = r.quantity(modulus("bulk_modulus"), Need::kOptional, Range::positive(1e9))) {
+    m.bulk_modulus_Pa = *v;
   }
   if (auto v = r.boolean("counts_as_target", Need::kOptional)) m.counts_as_target = *v;
   r.finish();

@@ -119,6 +119,8 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.nucleus.spacing_m, 0.0015, kTol);
   EXPECT_NEAR(w.nucleus.materials[0].bond_break_m, 0.0004, kTol);
   EXPECT_NEAR(w.nucleus.materials[1].bond_break_m, 0.0002, kTol);
+  EXPECT_NEAR(w.nucleus.materials[0].bulk_modulus_Pa, 25e3, 1e-9);
+  EXPECT_NEAR(w.nucleus.materials[1].bulk_modulus_Pa, 60e3, 1e-9);
   EXPECT_FALSE(w.nucleus.materials[1].counts_as_target);
   EXPECT_EQ(w.nucleus.blocks[1].material, 1);  // by name
   EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
@@ -172,6 +174,7 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(annulus.viscosity_Pa_s, md.viscosity_Pa_s);
   EXPECT_NE(annulus.bond_stiffness_N_m, md.bond_stiffness_N_m);
   EXPECT_NE(annulus.bond_break_m, md.bond_break_m);
+  EXPECT_NE(annulus.bulk_modulus_Pa, md.bulk_modulus_Pa);
   EXPECT_NE(annulus.counts_as_target, md.counts_as_target);
   ASSERT_EQ(w.nucleus.blocks.size(), 2u);
   const ParticleBlockConfig bd;
