@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -34,6 +35,9 @@ std::vector<UnitKey> mass(const std::string& base) {
 }
 std::vector<UnitKey> stress(const std::string& base) {
   return {{base + "_MPa", 1e6, "MPa"}, {base + "_Pa", 1.0, "Pa"}};
+}
+std::vector<UnitKey> modulus(const std::string& base) {
+  return {{base + "_kPa", 1e3, "kPa"}, {base + "_Pa", 1.0, "Pa"}};
 }
 std::vector<UnitKey> duration(const std::string& base) {
   return {{base + "_ms", 1e-3, "ms"}, {base + "_s", 1.0, "s"}};
@@ -108,6 +112,9 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
   }
   if (auto v = r.quantity(length("bond_break"), Need::kOptional, Range::positive(10 * kMm))) {
     m.bond_break_m = *v;
+  }
+  if (auto v = r.quantity(modulus("bulk_modulus"), Need::kOptional, Range::positive(1e9))) {
+    m.bulk_modulus_Pa = *v;
   }
   if (auto v = r.boolean("counts_as_target", Need::kOptional)) m.counts_as_target = *v;
   r.finish();
@@ -541,6 +548,15 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
 }
 
 LoadResult load_scenario_file(const std::string& path) {
+  // A directory reads as empty and a FIFO without a writer would block forever: refuse both.
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (!ec && (std::filesystem::is_directory(st) || std::filesystem::is_fifo(st) ||
+              std::filesystem::is_socket(st))) {
+    LoadResult r;
+    r.errors.push_back({path, 0, 0, "", "not a regular file (expected a scenario file)"});
+    return r;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     LoadResult r;
