@@ -9,6 +9,7 @@
 #include "ui/commands/rescore_command.hpp"
 #include "ui/commands/run_command.hpp"
 #include "ui/commands/validate_command.hpp"
+#include "ui/commands/verify_command.hpp"
 
 
 int main(int argc, char** argv) {
@@ -47,6 +48,15 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--format", report.format, "table, csv, json or xapi")
       ->check(CLI::IsMember({"table", "csv", "json", "xapi"}));
   report_cmd->callback([&] { code = acdr::run_report(report, std::cout, std::cerr); });
+
+  // acdr verify
+  acdr::VerifyOptions verify;
+  auto* verify_cmd = app.add_subcommand(
+      "verify", "Analytic verification of the physics (seed Eq. 1-11 and more)");
+  verify_cmd->add_option("cases", verify.case_files, "Case files (JSON); none: built-in cases");
+  verify_cmd->add_flag("--json", verify.json, "Print the results as JSON");
+  verify_cmd->add_flag("--fast", verify.fast, "Smaller scenes, same tolerances");
+  verify_cmd->callback([&] { code = acdr::run_verify(verify, std::cout, std::cerr); });
 
   // acdr render
   acdr::RenderOptions render;
