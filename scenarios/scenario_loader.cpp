@@ -15,7 +15,7 @@
 #include "scenarios/content_hash.hpp"
 #include "scenarios/device_presets.hpp"
 #include "scenarios/json_position_index.hpp"
-#include "scenarios/known_metrics.hpp"
+#include "assessment/metric_catalog.hpp"
 #include "scenarios/object_reader.hpp"
 
 namespace acdr {
