@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--input", run.input, "replay:FILE (a recorded trajectory, CSV)")
       ->required();
   run_cmd->add_option("--trainee", run.trainee, "Trainee id (omit for a practice attempt)");
+  run_cmd->add_flag("--override", run.override_lock,
+                    "Let the trainee take a locked module (an instructor's decision, recorded)");
+  run_cmd->add_option("--override-by", run.override_by, "Who allowed the override");
+  run_cmd->add_option("--override-reason", run.override_reason, "Why");
   run_cmd->add_option("--db", run.db, "Database file (default: $ACDR_DB or the data directory)");
   run_cmd->add_option("--png", run.png, "Write a picture of the final frame");
   run_cmd->add_option("--record", run.record, "Also write the attempt's recording to a file");
