@@ -268,6 +268,28 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   pair_n_.resize(pair_cap);
   pair_r_.resize(pair_cap);
   pair_visc_.resize(pair_cap);
+  pair_bond_.resize(pair_cap);
+  far_ij_.resize(2 * pair_cap);
+  far_n_.resize(pair_cap);
+  far_r_.resize(pair_cap);
+  far_bond_.resize(pair_cap);
+  bond_in_pair_.assign(nb, 0);
+  loose_.assign(nb, 0);
+  // Bonds of each particle (CSR), to find a pair's bond.
+  bond_adj_start_.assign(n + 1, 0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    ++bond_adj_start_[bond_ij_[2 * b] + 1];
+    ++bond_adj_start_[bond_ij_[2 * b + 1] + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) bond_adj_start_[i + 1] += bond_adj_start_[i];
+  bond_adj_.assign(2 * nb, 0);
+  {
+    std::vector<std::int32_t> cursor(bond_adj_start_.begin(), bond_adj_start_.end() - 1);
+    for (std::size_t b = 0; b < nb; ++b) {
+      bond_adj_[cursor[bond_ij_[2 * b]]++] = static_cast<std::int32_t>(b);
+      bond_adj_[cursor[bond_ij_[2 * b + 1]]++] = static_cast<std::int32_t>(b);
+    }
+  }
   pair_g_.resize(pair_cap);
   second_moment_.assign(n, 0.0);
   density_.assign(n, 0.0);
@@ -313,6 +335,27 @@ std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_;
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
 void Nucleus::set_gravity(const Vec3& g) { gravity_ = g; }
 std::size_t Nucleus::pair_count() const { return pairs_; }
+
+double Nucleus::kinetic_energy_J() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < x_.size(); ++i) e += 0.5 * mass_[i] * v_[i].squaredNorm();
+  return e;
+}
+
+double Nucleus::mechanical_energy_J() const {
+  double e = kinetic_energy_J();
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    e -= mass_[i] * gravity_.dot(x_[i]);
+    if (kappa_[i] > 0.0) e += 0.5 * volume_ * pressure_[i] * pressure_[i] / kappa_[i];
+  }
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+    if (!bond_alive_[b]) continue;
+    const double stretch =
+        min_image(x_[bond_ij_[2 * b + 1]] - x_[bond_ij_[2 * b]]).norm() - bond_rest_[b];
+    e += 0.5 * bond_k_[b] * stretch * stretch;
+  }
+  return e;
+}
 double Nucleus::spacing_m() const { return h_; }
 
 std::uint64_t Nucleus::state_hash() const {
@@ -444,9 +487,16 @@ void Nucleus::build_pairs() {
       });
     }
   }
+  // Pairs closer than the density radius ("near": they carry pressure as well as viscosity)
+  // come first, [0, near_pairs_); the others follow. A pair that is also a live bond records it,
+  // so the solver applies both with one coefficient along the same direction.
   pairs_ = 0;
+  near_pairs_ = 0;
+  std::size_t far = 0;
   pairs_overflow_ = false;
   const std::size_t cap = pair_r_.size();
+  const double Rd2 = density_radius_ * density_radius_;
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) bond_in_pair_[b] = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!awake_[i] && !halo_[i]) continue;
     grid_.for_each_candidate(i, [&](std::size_t j) {
@@ -456,17 +506,54 @@ void Nucleus::build_pairs() {
       const Vec3 d = min_image(x_[j] - x_[i]);
       const double r2 = d.squaredNorm();
       if (r2 >= R2 || r2 <= 0.0) return;
-      if (pairs_ >= cap) {
+      if (near_pairs_ + far >= cap) {
         pairs_overflow_ = true;
         return;
       }
+      std::int32_t bond = -1;
+      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
+        const std::int32_t b = bond_adj_[k];
+        if (bond_alive_[b] && bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
+          bond = b;
+          bond_in_pair_[b] = 1;
+          break;
+        }
+      }
       const double r = std::sqrt(r2);
-      pair_ij_[2 * pairs_] = static_cast<std::int32_t>(i);
-      pair_ij_[2 * pairs_ + 1] = static_cast<std::int32_t>(j);
-      pair_r_[pairs_] = r;
-      pair_n_[pairs_] = d / r;
-      ++pairs_;
+      if (r2 < Rd2) {
+        const std::size_t p = near_pairs_++;
+        pair_ij_[2 * p] = static_cast<std::int32_t>(i);
+        pair_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
+        pair_r_[p] = r;
+        pair_n_[p] = d / r;
+        pair_bond_[p] = bond;
+      } else {
+        const std::size_t p = far++;
+        far_ij_[2 * p] = static_cast<std::int32_t>(i);
+        far_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
+        far_r_[p] = r;
+        far_n_[p] = d / r;
+        far_bond_[p] = bond;
+      }
     });
+  }
+  pairs_ = near_pairs_ + far;
+  for (std::size_t p = 0; p < far; ++p) {
+    const std::size_t q = near_pairs_ + p;
+    pair_ij_[2 * q] = far_ij_[2 * p];
+    pair_ij_[2 * q + 1] = far_ij_[2 * p + 1];
+    pair_r_[q] = far_r_[p];
+    pair_n_[q] = far_n_[p];
+    pair_bond_[q] = far_bond_[p];
+  }
+  // Bonds stretched beyond the interaction radius (possible only when delta_max > R - L) are
+  // applied on their own.
+  loose_bonds_ = 0;
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+    if (!bond_alive_[b] || bond_in_pair_[b]) continue;
+    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
+    if (!awake_[i] && !awake_[j]) continue;
+    loose_[loose_bonds_++] = static_cast<std::int32_t>(b);
   }
   // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
   if (solver_.sleep_enabled) {
@@ -612,13 +699,15 @@ void Nucleus::assemble(double dt) {
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double r = pair_r_[p];
-    const double w = kernel(r, Rd);
-    density_[i] += w;
-    density_[j] += w;
+    if (p < near_pairs_) {
+      const double w = kernel(r, Rd);
+      density_[i] += w;
+      density_[j] += w;
+      pair_g_[p] = kernel_slope(r, Rd) / n0_;
+    }
     const double wv = viscous_weight(r, R);
     second_moment_[i] += wv * r * r;
     second_moment_[j] += wv * r * r;
-    pair_g_[p] = kernel_slope(r, Rd) / n0_;
     pair_visc_[p] = wv;
   }
   // Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth moment
@@ -630,9 +719,12 @@ void Nucleus::assemble(double dt) {
   // (free surface, loose particles) does not get an unbounded coefficient.
   for (std::size_t i = 0; i < n; ++i)
     visc_coef_[i] = 2.0 * mu_[i] * volume_ * s0_ / (t0_ * std::max(second_moment_[i], 0.6 * s0_));
+  // pair_visc_ becomes the pair's whole implicit coefficient: dt c_ij (+ dt^2 k of its bond).
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     pair_visc_[p] *= dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+    const std::int32_t b = pair_bond_[p];
+    if (b >= 0) pair_visc_[p] += dt * dt * bond_k_[b];
   }
   for (std::size_t k = 0; k < wall_count_; ++k) {
     const WallHit& w = walls_[k];
@@ -648,13 +740,19 @@ void Nucleus::assemble(double dt) {
 
   // Forces at the start of the step (into rhs_ as dt * f), then M v0.
   for (std::size_t i = 0; i < n; ++i) rhs_[i] = dt * (mass_[i] * gravity_ + f_ext_[i]);
-  // Bonds: force k (r - L) along the bond; the per-step direction and implicit coefficient
-  // dt^2 k are cached for the solver (0 for bonds that are broken or between frozen particles).
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  // Bonds: force k (r - L) along the bond (pair bonds along their pair; loose bonds cache
+  // their direction and implicit coefficient dt^2 k for the solver).
+  for (std::size_t p = 0; p < pairs_; ++p) {
+    const std::int32_t b = pair_bond_[p];
+    if (b < 0) continue;
+    const Vec3 f = dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * pair_n_[p];
+    rhs_[pair_ij_[2 * p]] += f;
+    rhs_[pair_ij_[2 * p + 1]] -= f;
+  }
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     bond_a_[b] = 0.0;
-    if (!bond_alive_[b]) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    if (!awake_[i] && !awake_[j]) continue;
     const Vec3 d = min_image(x_[j] - x_[i]);
     const double r = d.norm();
     if (r <= 0.0) continue;
@@ -664,7 +762,7 @@ void Nucleus::assemble(double dt) {
     rhs_[i] += f;
     rhs_[j] -= f;
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double P = kappa_[i] * volume_ * std::max(constraint_[i], 0.0) +
                      kappa_[j] * volume_ * std::max(constraint_[j], 0.0);
@@ -688,7 +786,7 @@ void Nucleus::assemble(double dt) {
     s_[i] *= press_coef_[i];
     rhs_[i] += s_[i] * wall_g_[i];
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3 g = (s_[i] + s_[j]) * pair_g_[p] * pair_n_[p];
     rhs_[i] -= g;
@@ -705,13 +803,14 @@ void Nucleus::assemble(double dt) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3& nn = pair_n_[p];
     const Eigen::Matrix3d nnT = nn * nn.transpose();
-    const double g = pair_g_[p];
+    const double g = p < near_pairs_ ? pair_g_[p] : 0.0;
     diag_inv_[i] += (pair_visc_[p] + press_coef_[j] * g * g) * nnT;
     diag_inv_[j] += (pair_visc_[p] + press_coef_[i] * g * g) * nnT;
     q_[i] -= g * nn;
     q_[j] += g * nn;
   }
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     if (bond_a_[b] == 0.0) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     const Eigen::Matrix3d K = bond_a_[b] * bond_n_[b] * bond_n_[b].transpose();
@@ -734,8 +833,9 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     y[i] = mass_[i] * x[i] + wall_c_[i] * x[i];
     s[i] = wall_g_[i].dot(x[i]);
   }
-  // Bonds: dt^2 k n n^T on the relative velocity.
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     if (bond_a_[b] == 0.0) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     const Vec3& nn = bond_n_[b];
@@ -743,8 +843,9 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     y[i] -= f;
     y[j] += f;
   }
-  // Viscosity (dt c n n^T on the relative velocity) and the divergence pass of the pressure.
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  // Viscosity and pair bonds (a n n^T on the relative velocity), and on near pairs the
+  // divergence pass of the pressure.
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3& nn = pair_n_[p];
     const double dn = nn.dot(x[j] - x[i]);
@@ -755,12 +856,19 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     s[i] += div;
     s[j] += div;
   }
+  for (std::size_t p = near_pairs_; p < pairs_; ++p) {
+    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
+    const Vec3& nn = pair_n_[p];
+    const Vec3 f = (pair_visc_[p] * nn.dot(x[j] - x[i])) * nn;
+    y[i] -= f;
+    y[j] += f;
+  }
   // Gradient pass: y += sum_k coef_k (grad C_k . x) grad C_k.
   for (std::size_t i = 0; i < n; ++i) {
     s[i] *= press_coef_[i];
     y[i] += s[i] * wall_g_[i];
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3 g = (s[i] + s[j]) * pair_g_[p] * pair_n_[p];
     y[i] -= g;
@@ -888,7 +996,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     const WallHit& w = walls_[k];
     s_[w.particle] -= w.grad.dot(w.v_wall);
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double div = pair_g_[p] * pair_n_[p].dot(v_[j] - v_[i]);
     s_[i] += div;
@@ -977,7 +1085,12 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double tiny = 1e-4 * h_;
   for (std::size_t k = 0; k < active_count_; ++k) {
     const std::size_t i = active_[k];
-    for (std::size_t c_idx = 0; c_idx < n_static + moving.size(); ++c_idx) {
+    // Statics, then the moving bodies, then the statics again: a particle squeezed between
+    // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
+    // overlap with the instrument is pushed out over the next steps).
+    const std::size_t n_all = n_static + moving.size();
+    for (std::size_t pass = 0; pass < n_all + (moving.empty() ? 0 : n_static); ++pass) {
+      const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
       const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
       const Pose& start = c.pose;

@@ -109,6 +109,11 @@ class Nucleus {
   void set_fixed_velocity(std::size_t i, const Vec3& v_m_s);
   void set_gravity(const Vec3& gravity_m_s2);
   std::size_t pair_count() const;               ///< interaction pairs in the last step
+  /// Mechanical energy, J: kinetic + gravitational (zero at the origin) + bond springs +
+  /// pressure (kappa V C^2 / 2 with C from the last step's pressures). Without driving it can
+  /// only decrease (backward Euler and viscosity dissipate); the stress suite checks that.
+  double mechanical_energy_J() const;
+  double kinetic_energy_J() const;
   double spacing_m() const;
 
  private:
@@ -180,8 +185,21 @@ class Nucleus {
   std::vector<Vec3> pair_n_;           // unit vector i -> j
   std::vector<double> pair_r_;         // m
   std::vector<double> pair_visc_;      // dt * c_ij, N s/m * s
-  std::vector<double> pair_g_;         // dW/dr / n0, 1/m
+  std::vector<double> pair_g_;         // dW/dr / n0, 1/m (near pairs)
+  std::vector<std::int32_t> pair_bond_;  // the pair's live bond, -1 if none
   std::size_t pairs_ = 0;
+  std::size_t near_pairs_ = 0;         // pairs [0, near_pairs_) are within the density radius
+  // Far-pair staging while building (capacity P), then appended after the near pairs.
+  std::vector<std::int32_t> far_ij_;
+  std::vector<Vec3> far_n_;
+  std::vector<double> far_r_;
+  std::vector<std::int32_t> far_bond_;
+  // Bonds per particle (CSR) and this step's bookkeeping.
+  std::vector<std::int32_t> bond_adj_start_;  // N + 1
+  std::vector<std::int32_t> bond_adj_;        // 2B bond indices
+  std::vector<std::uint8_t> bond_in_pair_;    // B
+  std::vector<std::int32_t> loose_;           // bonds not in a pair this step
+  std::size_t loose_bonds_ = 0;
   bool pairs_overflow_ = false;
 
   // Per-particle step data (N each).
