@@ -8,6 +8,7 @@
 #include "ui/commands/report_command.hpp"
 #include "ui/commands/rescore_command.hpp"
 #include "ui/commands/run_command.hpp"
+#include "ui/commands/stress_command.hpp"
 #include "ui/commands/validate_command.hpp"
 #include "ui/commands/verify_command.hpp"
 
@@ -61,6 +62,14 @@ int main(int argc, char** argv) {
   verify_cmd->add_flag("--json", verify.json, "Print the results as JSON");
   verify_cmd->add_flag("--fast", verify.fast, "Smaller scenes, same tolerances");
   verify_cmd->callback([&] { code = acdr::run_verify(verify, std::cout, std::cerr); });
+
+  // acdr stress
+  acdr::StressOptions stress;
+  auto* stress_cmd = app.add_subcommand(
+      "stress", "Numerical stability suite: time step, stiffness, viscosity, speed, bad input");
+  stress_cmd->add_flag("--json", stress.json, "Print the results as JSON");
+  stress_cmd->add_flag("--fast", stress.fast, "Coarser particles and shorter holds");
+  stress_cmd->callback([&] { code = acdr::run_stress(stress, std::cout, std::cerr); });
 
   // acdr render
   acdr::RenderOptions render;
