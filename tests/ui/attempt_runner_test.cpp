@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/box_world.hpp"
 #include "engine/trajectory.hpp"
 
 namespace acdr {
@@ -13,21 +14,9 @@ namespace {
 ScenarioModel small_scenario() {
   ScenarioModel s;
   s.id = "small";
-  WorldConfig& c = s.world;
-  c.ground.enabled = true;
-  c.ground.height_m = -2e-3;
-  c.box.enabled = true;
-  c.box.inner_min_m = Vec3(-5e-3, -5e-3, 0);
-  c.box.inner_max_m = Vec3(5e-3, 5e-3, 8e-3);
-  c.nucleus.enabled = true;
-  c.nucleus.materials.push_back(MaterialConfig{});
-  c.nucleus.blocks.push_back({Vec3(-5e-3, -5e-3, 0), Vec3(5e-3, 5e-3, 4e-3), 0});
-  c.instrument.enabled = true;
-  c.instrument.blade_size_m = Vec3(4e-3, 4e-3, 1e-3);
-  c.instrument.shaft_length_m = 0.05;
-  c.instrument_start.position = Vec3(0, 0, 0.06);
-  c.removal.min_m = Vec3(-5e-3, -5e-3, -1e-3);
-  c.removal.max_m = Vec3(5e-3, 5e-3, 8e-3);
+  BoxWorldOptions o;
+  o.grip_height_m = 0.06;
+  s.world = make_box_world(o);
   s.rubric.terms.push_back({"nucleus_removed_fraction", 0.1, 0.05, true, 1.0});
   s.rubric.gates.push_back({"overload_events", 0.0});
   return s;

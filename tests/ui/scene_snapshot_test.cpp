@@ -4,26 +4,21 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/box_world.hpp"
 #include "ui/offscreen_render.hpp"
 
 namespace acdr {
 namespace {
 
 WorldConfig box_world() {
-  WorldConfig c;
-  c.ground.enabled = true;
-  c.ground.height_m = -2e-3;
-  c.box.enabled = true;
-  c.box.inner_min_m = Vec3(-8e-3, -6e-3, 0);
-  c.box.inner_max_m = Vec3(8e-3, 6e-3, 8e-3);
-  c.nucleus.enabled = true;
-  c.nucleus.materials.push_back(MaterialConfig{});
-  c.nucleus.blocks.push_back({Vec3(-8e-3, -6e-3, 0), Vec3(8e-3, 6e-3, 4e-3), 0});
-  c.instrument.enabled = true;
-  c.instrument_start.position = Vec3(0, 0, 0.1);
+  BoxWorldOptions o;
+  o.cavity_m = Vec3(16e-3, 12e-3, 8e-3);
+  o.blade_m = Vec3(10e-3, 6e-3, 2e-3);
+  o.shaft_length_m = 0.08;
+  o.grip_height_m = 0.1;
+  WorldConfig c = make_box_world(o);
   // Only the left half of the block counts as in place: the right half shows as removed.
-  c.removal.min_m = Vec3(-8e-3, -6e-3, -1e-3);
-  c.removal.max_m = Vec3(0.0, 6e-3, 8e-3);
+  c.removal.max_m.x() = 0.0;
   return c;
 }
 
