@@ -28,8 +28,10 @@ double DurationHistogram::quantile_s(double q) const {
   std::int64_t seen = 0;
   for (std::size_t b = 0; b < bins_.size(); ++b) {
     seen += bins_[b];
-    if (seen >= std::max<std::int64_t>(rank, 1))
+    if (seen >= std::max<std::int64_t>(rank, 1)) {
+      if (b == static_cast<std::size_t>(kBins)) return max_;  // overflow bin: only the max is known
       return std::min(max_, (static_cast<double>(b) + 1.0) * kBinWidth_s);
+    }
   }
   return max_;
 }
