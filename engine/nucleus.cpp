@@ -67,17 +67,20 @@ constexpr int kCalmStepsToSleep = 20;   // steps below the sleep speed before sl
 constexpr int kMaxWallHitsPerParticle = 4;
 constexpr double kMaxSpeed_m_s = 100.0;  // above this a particle is reported as a blow-up
 
-/// Density kernel w(r) = (1 - r^2/R^2)^3 (the poly6 shape, Mueller et al. SCA 2003), w(0) = 1.
+/// Density kernel w(r) = (1 - r/R)^3 (the "spiky" shape of Desbrun & Gascuel 1996, used for
+/// pressure by Mueller et al., SCA 2003), w(0) = 1. Its slope is steepest at r = 0, so two
+/// particles pushed together are pushed apart harder the closer they are; the poly6 shape's
+/// slope vanishes at r = 0 and let clumps of overlapped particles jitter at high pressure.
 inline double kernel(double r, double R) {
   if (r >= R) return 0.0;
-  const double q = 1.0 - r * r / (R * R);
+  const double q = 1.0 - r / R;
   return q * q * q;
 }
 /// dw/dr.
 inline double kernel_slope(double r, double R) {
   if (r >= R) return 0.0;
-  const double q = 1.0 - r * r / (R * R);
-  return -6.0 * r / (R * R) * q * q;
+  const double q = 1.0 - r / R;
+  return -3.0 * q * q / R;
 }
 
 /// Weight of a pair in the viscous operator: (1 - r/R)^1.5 on R = 2.1 h. Chosen (by lattice
