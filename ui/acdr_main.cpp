@@ -38,6 +38,8 @@ int main(int argc, char** argv) {
                       "udp: seconds to wait for the bridge, and without packets before the "
                       "attempt ends as disconnected (default 5)")
       ->check(CLI::PositiveNumber);
+  run_cmd->add_flag("--realtime", run.realtime,
+                    "Ask for real-time priority for the haptic loop (needs the privilege)");
   run_cmd->add_option("--screenshot", run.screenshot,
                       "Window: save a picture of the trainee view (PNG)");
   run_cmd->add_option("--screenshot-at", run.screenshot_at_s,
@@ -73,6 +75,8 @@ int main(int argc, char** argv) {
                       "Fault: poses jump by --jump-mm along x from this time (s) for 20 ms");
   double jump_mm = 50.0;
   sim_cmd->add_option("--jump-mm", jump_mm, "Size of that jump (mm, default 50)");
+  sim_cmd->add_flag("--realtime", sim.bridge.realtime_priority,
+                    "Ask for real-time priority for the send loop (needs the privilege)");
   sim_cmd->add_flag("--json", sim.json, "Print the summary as JSON");
   sim_cmd->callback([&] {
     sim.bridge.jump_m = jump_mm * 1e-3;
