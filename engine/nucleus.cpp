@@ -196,6 +196,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   site_w_.clear();
   site_r2_.clear();
   site_wv_.clear();
+  site_len_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -211,7 +212,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         site_w_.push_back(kernel(r, density_radius_));
         site_wv_.push_back(wv);
         site_r2_.push_back(r * r);
+        site_len_.push_back(r);
       }
+
+  build_wall_table();
 
   const std::size_t n = setup.positions_m.size();
   x_ = setup.positions_m;
@@ -268,6 +272,45 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   pair_n_.resize(pair_cap);
   pair_r_.resize(pair_cap);
   pair_visc_.resize(pair_cap);
+  pair_bond_.resize(pair_cap);
+  far_ij_.resize(2 * pair_cap);
+  far_n_.resize(pair_cap);
+  far_r_.resize(pair_cap);
+  far_bond_.resize(pair_cap);
+  skin_ = options_.skin_factor * h_;
+  {
+    // Candidates within R + skin: the lattice count within that reach, with room for 50 %
+    // compression of the neighbourhood.
+    std::size_t lattice = 0;
+    const double reach = options_.neighbor_radius_factor + options_.skin_factor;
+    const int m = static_cast<int>(std::ceil(reach));
+    for (int a = -m; a <= m; ++a)
+      for (int b = -m; b <= m; ++b)
+        for (int c = -m; c <= m; ++c)
+          if (a * a + b * b + c * c > 0 && a * a + b * b + c * c < reach * reach) ++lattice;
+    const std::size_t cand_cap = std::max<std::size_t>(16, n * lattice * 3 / 4);
+    cand_ij_.resize(2 * cand_cap);
+    cand_bond_.resize(cand_cap);
+  }
+  x_built_.assign(n, Vec3::Zero());
+  candidates_valid_ = false;
+  bond_in_pair_.assign(nb, 0);
+  loose_.assign(nb, 0);
+  // Bonds of each particle (CSR), to find a pair's bond.
+  bond_adj_start_.assign(n + 1, 0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    ++bond_adj_start_[bond_ij_[2 * b] + 1];
+    ++bond_adj_start_[bond_ij_[2 * b + 1] + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) bond_adj_start_[i + 1] += bond_adj_start_[i];
+  bond_adj_.assign(2 * nb, 0);
+  {
+    std::vector<std::int32_t> cursor(bond_adj_start_.begin(), bond_adj_start_.end() - 1);
+    for (std::size_t b = 0; b < nb; ++b) {
+      bond_adj_[cursor[bond_ij_[2 * b]]++] = static_cast<std::int32_t>(b);
+      bond_adj_[cursor[bond_ij_[2 * b + 1]]++] = static_cast<std::int32_t>(b);
+    }
+  }
   pair_g_.resize(pair_cap);
   second_moment_.assign(n, 0.0);
   density_.assign(n, 0.0);
@@ -313,6 +356,27 @@ std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_;
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
 void Nucleus::set_gravity(const Vec3& g) { gravity_ = g; }
 std::size_t Nucleus::pair_count() const { return pairs_; }
+
+double Nucleus::kinetic_energy_J() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < x_.size(); ++i) e += 0.5 * mass_[i] * v_[i].squaredNorm();
+  return e;
+}
+
+double Nucleus::mechanical_energy_J() const {
+  double e = kinetic_energy_J();
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    e -= mass_[i] * gravity_.dot(x_[i]);
+    if (kappa_[i] > 0.0) e += 0.5 * volume_ * pressure_[i] * pressure_[i] / kappa_[i];
+  }
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+    if (!bond_alive_[b]) continue;
+    const double stretch =
+        min_image(x_[bond_ij_[2 * b + 1]] - x_[bond_ij_[2 * b]]).norm() - bond_rest_[b];
+    e += 0.5 * bond_k_[b] * stretch * stretch;
+  }
+  return e;
+}
 double Nucleus::spacing_m() const { return h_; }
 
 std::uint64_t Nucleus::state_hash() const {
@@ -428,45 +492,122 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
   }
 }
 
+// Candidate pairs (a Verlet list, Verlet 1967): every pair closer than R + skin, found on the
+// hashed grid and kept until some particle has moved more than skin / 2 since, so no pair
+// within R can be missing. Rebuilding costs a grid query per particle; a step between rebuilds
+// only re-measures the candidates.
+void Nucleus::rebuild_candidates() {
+  const std::size_t n = x_.size();
+  const double reach = radius_ + skin_;
+  grid_.build(x_, reach, options_.periodic, options_.periodic_min_m, options_.periodic_max_m);
+  const double reach2 = reach * reach;
+  candidates_ = 0;
+  const std::size_t cap = cand_bond_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    grid_.for_each_candidate(i, [&](std::size_t j) {
+      if (j <= i) return;
+      if (min_image(x_[j] - x_[i]).squaredNorm() >= reach2) return;
+      if (candidates_ >= cap) {
+        pairs_overflow_ = true;
+        return;
+      }
+      std::int32_t bond = -1;
+      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
+        const std::int32_t b = bond_adj_[k];
+        if (bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
+          bond = b;
+          break;
+        }
+      }
+      cand_ij_[2 * candidates_] = static_cast<std::int32_t>(i);
+      cand_ij_[2 * candidates_ + 1] = static_cast<std::int32_t>(j);
+      cand_bond_[candidates_] = bond;
+      ++candidates_;
+    });
+  }
+  std::copy(x_.begin(), x_.end(), x_built_.begin());
+  candidates_valid_ = true;
+}
+
 void Nucleus::build_pairs() {
   const std::size_t n = x_.size();
-  grid_.build(x_, radius_, options_.periodic, options_.periodic_min_m, options_.periodic_max_m);
+  pairs_overflow_ = false;
+  // Rebuild the candidates when some particle has moved more than skin / 2 since.
+  bool rebuild = !candidates_valid_;
+  const double half_skin2 = 0.25 * skin_ * skin_;
+  for (std::size_t i = 0; i < n && !rebuild; ++i)
+    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
+  if (rebuild) rebuild_candidates();
+
   const double R2 = radius_ * radius_;
   std::fill(halo_.begin(), halo_.end(), 0);
   // Halo: frozen particles next to awake ones. Their density must be complete (they push on
   // the awake ones through their pressure), so their pairs are kept too.
   if (active_count_ < n) {
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      grid_.for_each_candidate(i, [&](std::size_t j) {
-        if (awake_[j] || halo_[j]) return;
-        if (min_image(x_[j] - x_[i]).squaredNorm() < R2) halo_[j] = 1;
-      });
+    for (std::size_t c = 0; c < candidates_; ++c) {
+      const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
+      if (awake_[i] == awake_[j]) continue;
+      const std::int32_t sleeper = awake_[i] ? j : i;
+      if (halo_[sleeper]) continue;
+      if (min_image(x_[j] - x_[i]).squaredNorm() < R2) halo_[sleeper] = 1;
     }
   }
+  // Pairs closer than the density radius ("near": they carry pressure as well as viscosity)
+  // come first, [0, near_pairs_); the others follow. A pair that is also a live bond records it,
+  // so the solver applies both with one coefficient along the same direction.
   pairs_ = 0;
-  pairs_overflow_ = false;
+  near_pairs_ = 0;
+  std::size_t far = 0;
   const std::size_t cap = pair_r_.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!awake_[i] && !halo_[i]) continue;
-    grid_.for_each_candidate(i, [&](std::size_t j) {
-      if (j == i) return;
-      const bool j_in = awake_[j] || halo_[j];
-      if (j_in && j < i) return;  // counted from j
-      const Vec3 d = min_image(x_[j] - x_[i]);
-      const double r2 = d.squaredNorm();
-      if (r2 >= R2 || r2 <= 0.0) return;
-      if (pairs_ >= cap) {
-        pairs_overflow_ = true;
-        return;
-      }
-      const double r = std::sqrt(r2);
-      pair_ij_[2 * pairs_] = static_cast<std::int32_t>(i);
-      pair_ij_[2 * pairs_ + 1] = static_cast<std::int32_t>(j);
-      pair_r_[pairs_] = r;
-      pair_n_[pairs_] = d / r;
-      ++pairs_;
-    });
+  const double Rd2 = density_radius_ * density_radius_;
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) bond_in_pair_[b] = 0;
+  for (std::size_t c = 0; c < candidates_; ++c) {
+    const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
+    if (!awake_[i] && !halo_[i] && !awake_[j] && !halo_[j]) continue;
+    const Vec3 d = min_image(x_[j] - x_[i]);
+    const double r2 = d.squaredNorm();
+    if (r2 >= R2 || r2 <= 0.0) continue;
+    if (near_pairs_ + far >= cap) {
+      pairs_overflow_ = true;
+      break;
+    }
+    std::int32_t bond = cand_bond_[c];
+    if (bond >= 0 && !bond_alive_[bond]) bond = -1;
+    if (bond >= 0) bond_in_pair_[bond] = 1;
+    const double r = std::sqrt(r2);
+    if (r2 < Rd2) {
+      const std::size_t p = near_pairs_++;
+      pair_ij_[2 * p] = i;
+      pair_ij_[2 * p + 1] = j;
+      pair_r_[p] = r;
+      pair_n_[p] = d / r;
+      pair_bond_[p] = bond;
+    } else {
+      const std::size_t p = far++;
+      far_ij_[2 * p] = i;
+      far_ij_[2 * p + 1] = j;
+      far_r_[p] = r;
+      far_n_[p] = d / r;
+      far_bond_[p] = bond;
+    }
+  }
+  pairs_ = near_pairs_ + far;
+  for (std::size_t p = 0; p < far; ++p) {
+    const std::size_t q = near_pairs_ + p;
+    pair_ij_[2 * q] = far_ij_[2 * p];
+    pair_ij_[2 * q + 1] = far_ij_[2 * p + 1];
+    pair_r_[q] = far_r_[p];
+    pair_n_[q] = far_n_[p];
+    pair_bond_[q] = far_bond_[p];
+  }
+  // Bonds stretched beyond the interaction radius (possible only when delta_max > R - L) are
+  // applied on their own.
+  loose_bonds_ = 0;
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+    if (!bond_alive_[b] || bond_in_pair_[b]) continue;
+    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
+    if (!awake_[i] && !awake_[j]) continue;
+    loose_[loose_bonds_++] = static_cast<std::int32_t>(b);
   }
   // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
   if (solver_.sleep_enabled) {
@@ -530,9 +671,20 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       // coefficient in assemble()). On the lattice this is mu A / d for the first layer.
       w.grad = Vec3::Zero();
       w.visc = Eigen::Matrix3d::Zero();
-      if (d < wall_range) {
+      int face_axis = -1;
+      if (d < wall_range && flat_face(c, x_[i], d, normal, &face_axis)) {
+        // An axis-aligned flat face seen by every site: the sums depend on d only (table).
+        const WallTableEntry e = wall_table_at(d);
+        density_[i] += e.n;
+        second_moment_[i] += e.s2;
+        w.grad = e.grad * normal;
+        w.visc = e.visc_t * Eigen::Matrix3d::Identity();
+        w.visc(face_axis, face_axis) = e.visc_n;
+      } else if (d < wall_range) {
         const double d_eff = std::max(d, 0.25 * h_);
         for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+          // sd(site) >= d - |offset|: a site that far cannot be occupied.
+          if (d - site_len_[o] >= 0.5 * h_) continue;
           const Vec3 q = x_[i] + site_offset_[o];
           Vec3 nq;
           const double sd = signed_distance(c, q, &nq);
@@ -602,6 +754,70 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   }
 }
 
+// Whether particle x at distance d sees collider c as one axis-aligned flat face within the
+// whole site neighbourhood (a half-space, or a box face far enough from the face's edges and
+// thick enough), so the tabulated wall sums apply. `axis` receives the normal's axis.
+bool Nucleus::flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal,
+                        int* axis) const {
+  const Quat& q = c.pose.orientation;
+  if (std::abs(std::abs(q.w()) - 1.0) > 1e-12) return false;  // rotated
+  int a = -1;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(normal[k]) - 1.0) < 1e-12) a = k;
+  if (a < 0) return false;
+  *axis = a;
+  if (c.kind == ColliderKind::kHalfSpace) return a == 2;
+  if (c.kind != ColliderKind::kBox) return false;
+  // The face's extent must cover every site within R (lateral margin R) and the solid must be
+  // as deep as the sites reach (R - d; the few sites near the far face then differ from the
+  // half-space value by at most a few percent of one site's weight).
+  const Vec3 local = x - c.pose.position;
+  if (d < 0.0) return false;
+  for (int k = 0; k < 3; ++k) {
+    if (k == a) continue;
+    if (std::abs(local[k]) > c.half_extents_m[k] - radius_) return false;
+  }
+  return 2.0 * c.half_extents_m[a] >= radius_ - d;
+}
+
+// Wall sums of a flat face normal to +z at distance d, sampled over [-h/2, R + h/2].
+void Nucleus::build_wall_table() {
+  const int samples = static_cast<int>(wall_table_.size());
+  const double lo = -0.5 * h_, hi = radius_ + 0.5 * h_;
+  wall_table_step_ = (hi - lo) / (samples - 1);
+  wall_table_lo_ = lo;
+  for (int k = 0; k < samples; ++k) {
+    const double d = lo + k * wall_table_step_;
+    const double d_eff = std::max(d, 0.25 * h_);
+    WallTableEntry e{};
+    for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+      const double sd = d + site_offset_[o].z();
+      double slope = 0.0;
+      const double occ = occupancy(sd, h_, &slope);
+      if (occ <= 0.0) continue;
+      const Vec3 u = site_offset_[o] / site_len_[o];
+      const double vw = occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff);
+      e.n += occ * site_w_[o];
+      e.s2 += occ * site_wv_[o] * site_r2_[o];
+      e.grad += slope * site_w_[o] / n0_;
+      e.visc_n += vw * u.z() * u.z();
+      e.visc_t += vw * u.x() * u.x();
+    }
+    wall_table_[k] = e;
+  }
+}
+
+Nucleus::WallTableEntry Nucleus::wall_table_at(double d) const {
+  const double u = std::clamp((d - wall_table_lo_) / wall_table_step_, 0.0,
+                              static_cast<double>(wall_table_.size() - 1));
+  const std::size_t k = std::min(static_cast<std::size_t>(u), wall_table_.size() - 2);
+  const double f = u - k;
+  const WallTableEntry& a = wall_table_[k];
+  const WallTableEntry& b = wall_table_[k + 1];
+  return {a.n + f * (b.n - a.n), a.s2 + f * (b.s2 - a.s2), a.grad + f * (b.grad - a.grad),
+          a.visc_n + f * (b.visc_n - a.visc_n), a.visc_t + f * (b.visc_t - a.visc_t)};
+}
+
 // Per-step coefficients, right-hand side and block-Jacobi preconditioner.
 void Nucleus::assemble(double dt) {
   const std::size_t n = x_.size();
@@ -612,13 +828,15 @@ void Nucleus::assemble(double dt) {
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double r = pair_r_[p];
-    const double w = kernel(r, Rd);
-    density_[i] += w;
-    density_[j] += w;
+    if (p < near_pairs_) {
+      const double w = kernel(r, Rd);
+      density_[i] += w;
+      density_[j] += w;
+      pair_g_[p] = kernel_slope(r, Rd) / n0_;
+    }
     const double wv = viscous_weight(r, R);
     second_moment_[i] += wv * r * r;
     second_moment_[j] += wv * r * r;
-    pair_g_[p] = kernel_slope(r, Rd) / n0_;
     pair_visc_[p] = wv;
   }
   // Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth moment
@@ -630,9 +848,12 @@ void Nucleus::assemble(double dt) {
   // (free surface, loose particles) does not get an unbounded coefficient.
   for (std::size_t i = 0; i < n; ++i)
     visc_coef_[i] = 2.0 * mu_[i] * volume_ * s0_ / (t0_ * std::max(second_moment_[i], 0.6 * s0_));
+  // pair_visc_ becomes the pair's whole implicit coefficient: dt c_ij (+ dt^2 k of its bond).
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     pair_visc_[p] *= dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+    const std::int32_t b = pair_bond_[p];
+    if (b >= 0) pair_visc_[p] += dt * dt * bond_k_[b];
   }
   for (std::size_t k = 0; k < wall_count_; ++k) {
     const WallHit& w = walls_[k];
@@ -648,13 +869,19 @@ void Nucleus::assemble(double dt) {
 
   // Forces at the start of the step (into rhs_ as dt * f), then M v0.
   for (std::size_t i = 0; i < n; ++i) rhs_[i] = dt * (mass_[i] * gravity_ + f_ext_[i]);
-  // Bonds: force k (r - L) along the bond; the per-step direction and implicit coefficient
-  // dt^2 k are cached for the solver (0 for bonds that are broken or between frozen particles).
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  // Bonds: force k (r - L) along the bond (pair bonds along their pair; loose bonds cache
+  // their direction and implicit coefficient dt^2 k for the solver).
+  for (std::size_t p = 0; p < pairs_; ++p) {
+    const std::int32_t b = pair_bond_[p];
+    if (b < 0) continue;
+    const Vec3 f = dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * pair_n_[p];
+    rhs_[pair_ij_[2 * p]] += f;
+    rhs_[pair_ij_[2 * p + 1]] -= f;
+  }
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     bond_a_[b] = 0.0;
-    if (!bond_alive_[b]) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    if (!awake_[i] && !awake_[j]) continue;
     const Vec3 d = min_image(x_[j] - x_[i]);
     const double r = d.norm();
     if (r <= 0.0) continue;
@@ -664,7 +891,7 @@ void Nucleus::assemble(double dt) {
     rhs_[i] += f;
     rhs_[j] -= f;
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double P = kappa_[i] * volume_ * std::max(constraint_[i], 0.0) +
                      kappa_[j] * volume_ * std::max(constraint_[j], 0.0);
@@ -688,7 +915,7 @@ void Nucleus::assemble(double dt) {
     s_[i] *= press_coef_[i];
     rhs_[i] += s_[i] * wall_g_[i];
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3 g = (s_[i] + s_[j]) * pair_g_[p] * pair_n_[p];
     rhs_[i] -= g;
@@ -705,13 +932,14 @@ void Nucleus::assemble(double dt) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3& nn = pair_n_[p];
     const Eigen::Matrix3d nnT = nn * nn.transpose();
-    const double g = pair_g_[p];
+    const double g = p < near_pairs_ ? pair_g_[p] : 0.0;
     diag_inv_[i] += (pair_visc_[p] + press_coef_[j] * g * g) * nnT;
     diag_inv_[j] += (pair_visc_[p] + press_coef_[i] * g * g) * nnT;
     q_[i] -= g * nn;
     q_[j] += g * nn;
   }
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     if (bond_a_[b] == 0.0) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     const Eigen::Matrix3d K = bond_a_[b] * bond_n_[b] * bond_n_[b].transpose();
@@ -734,8 +962,9 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     y[i] = mass_[i] * x[i] + wall_c_[i] * x[i];
     s[i] = wall_g_[i].dot(x[i]);
   }
-  // Bonds: dt^2 k n n^T on the relative velocity.
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     if (bond_a_[b] == 0.0) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     const Vec3& nn = bond_n_[b];
@@ -743,8 +972,9 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     y[i] -= f;
     y[j] += f;
   }
-  // Viscosity (dt c n n^T on the relative velocity) and the divergence pass of the pressure.
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  // Viscosity and pair bonds (a n n^T on the relative velocity), and on near pairs the
+  // divergence pass of the pressure.
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3& nn = pair_n_[p];
     const double dn = nn.dot(x[j] - x[i]);
@@ -755,12 +985,19 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     s[i] += div;
     s[j] += div;
   }
+  for (std::size_t p = near_pairs_; p < pairs_; ++p) {
+    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
+    const Vec3& nn = pair_n_[p];
+    const Vec3 f = (pair_visc_[p] * nn.dot(x[j] - x[i])) * nn;
+    y[i] -= f;
+    y[j] += f;
+  }
   // Gradient pass: y += sum_k coef_k (grad C_k . x) grad C_k.
   for (std::size_t i = 0; i < n; ++i) {
     s[i] *= press_coef_[i];
     y[i] += s[i] * wall_g_[i];
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3 g = (s[i] + s[j]) * pair_g_[p] * pair_n_[p];
     y[i] -= g;
@@ -888,7 +1125,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     const WallHit& w = walls_[k];
     s_[w.particle] -= w.grad.dot(w.v_wall);
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double div = pair_g_[p] * pair_n_[p].dot(v_[j] - v_[i]);
     s_[i] += div;
@@ -977,7 +1214,12 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double tiny = 1e-4 * h_;
   for (std::size_t k = 0; k < active_count_; ++k) {
     const std::size_t i = active_[k];
-    for (std::size_t c_idx = 0; c_idx < n_static + moving.size(); ++c_idx) {
+    // Statics, then the moving bodies, then the statics again: a particle squeezed between
+    // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
+    // overlap with the instrument is pushed out over the next steps).
+    const std::size_t n_all = n_static + moving.size();
+    for (std::size_t pass = 0; pass < n_all + (moving.empty() ? 0 : n_static); ++pass) {
+      const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
       const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
       const Pose& start = c.pose;

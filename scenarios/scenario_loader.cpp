@@ -15,7 +15,7 @@
 #include "scenarios/content_hash.hpp"
 #include "scenarios/device_presets.hpp"
 #include "scenarios/json_position_index.hpp"
-#include "scenarios/known_metrics.hpp"
+#include "assessment/metric_catalog.hpp"
 #include "scenarios/object_reader.hpp"
 
 namespace acdr {
@@ -449,6 +449,10 @@ void read_document(ObjectReader& r, ScenarioModel& m) {
   }
   if (auto s = r.string("title", Need::kRequired, true, {}, "the title shown to trainees")) m.title = *s;
   if (auto s = r.string("goal", Need::kRequired, true, {}, "the learning goal in plain words")) m.goal = *s;
+  if (auto s = r.string("curriculum", Need::kOptional, true, {},
+                        "the curriculum id, e.g. \"acdr-scooping\"")) {
+    m.curriculum = *s;
+  }
   if (auto v = r.integer("module_order", Need::kOptional, Range::closed(0, 10000))) m.module_order = *v;
   if (auto v = r.number("time_limit_s", Need::kOptional, Range::closed(0.0, 86400.0), "s")) {
     m.time_limit_s = *v;

@@ -10,7 +10,9 @@
 #include "ui/commands/report_command.hpp"
 #include "ui/commands/rescore_command.hpp"
 #include "ui/commands/run_command.hpp"
+#include "ui/commands/stress_command.hpp"
 #include "ui/commands/validate_command.hpp"
+#include "ui/commands/verify_command.hpp"
 
 
 int main(int argc, char** argv) {
@@ -29,6 +31,10 @@ int main(int argc, char** argv) {
                       "bridge, docs/haptic-bridge.md) or mouse (window only)")
       ->required();
   run_cmd->add_option("--trainee", run.trainee, "Trainee id (omit for a practice attempt)");
+  run_cmd->add_flag("--override", run.override_lock,
+                    "Let the trainee take a locked module (an instructor's decision, recorded)");
+  run_cmd->add_option("--override-by", run.override_by, "Who allowed the override");
+  run_cmd->add_option("--override-reason", run.override_reason, "Why");
   run_cmd->add_option("--db", run.db, "Database file (default: $ACDR_DB or the data directory)");
   run_cmd->add_option("--png", run.png, "Write a picture of the final frame");
   run_cmd->add_option("--record", run.record, "Also write the attempt's recording to a file");
@@ -117,6 +123,23 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--format", report.format, "table, csv, json or xapi")
       ->check(CLI::IsMember({"table", "csv", "json", "xapi"}));
   report_cmd->callback([&] { code = acdr::run_report(report, std::cout, std::cerr); });
+
+  // acdr verify
+  acdr::VerifyOptions verify;
+  auto* verify_cmd = app.add_subcommand(
+      "verify", "Analytic verification of the physics (seed Eq. 1-11 and more)");
+  verify_cmd->add_option("cases", verify.case_files, "Case files (JSON); none: built-in cases");
+  verify_cmd->add_flag("--json", verify.json, "Print the results as JSON");
+  verify_cmd->add_flag("--fast", verify.fast, "Smaller scenes, same tolerances");
+  verify_cmd->callback([&] { code = acdr::run_verify(verify, std::cout, std::cerr); });
+
+  // acdr stress
+  acdr::StressOptions stress;
+  auto* stress_cmd = app.add_subcommand(
+      "stress", "Numerical stability suite: time step, stiffness, viscosity, speed, bad input");
+  stress_cmd->add_flag("--json", stress.json, "Print the results as JSON");
+  stress_cmd->add_flag("--fast", stress.fast, "Coarser particles and shorter holds");
+  stress_cmd->callback([&] { code = acdr::run_stress(stress, std::cout, std::cerr); });
 
   // acdr render
   acdr::RenderOptions render;

@@ -2,6 +2,8 @@
 // nucleus reaching the instrument, rigid contact with the box, and bit-for-bit determinism.
 #include "engine/world.hpp"
 
+#include "engine/box_world.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,23 +15,9 @@ namespace {
 
 /// A small version of the seed's box: 10 x 10 mm cavity, 4 mm of nucleus (400 particles).
 WorldConfig small_box(bool with_nucleus = true) {
-  WorldConfig c;
-  c.ground.enabled = true;
-  c.ground.height_m = -2e-3;
-  c.box.enabled = true;
-  c.box.inner_min_m = Vec3(-5e-3, -5e-3, 0);
-  c.box.inner_max_m = Vec3(5e-3, 5e-3, 8e-3);
-  c.nucleus.enabled = with_nucleus;
-  c.nucleus.spacing_m = 1e-3;
-  c.nucleus.materials.push_back(MaterialConfig{});
-  c.nucleus.blocks.push_back({Vec3(-5e-3, -5e-3, 0), Vec3(5e-3, 5e-3, 4e-3), 0});
-  c.instrument.enabled = true;
-  c.instrument.blade_size_m = Vec3(4e-3, 4e-3, 1e-3);
-  c.instrument.shaft_length_m = 0.05;
-  c.instrument_start.position = Vec3(0, 0, 0.07);
-  c.removal.min_m = Vec3(-5e-3, -5e-3, -1e-3);
-  c.removal.max_m = Vec3(5e-3, 5e-3, 8e-3);
-  return c;
+  BoxWorldOptions o;
+  o.nucleus = with_nucleus;
+  return make_box_world(o);
 }
 
 DeviceSample at(const Vec3& grip) {

@@ -11,6 +11,7 @@
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
+#include "db/progression.hpp"
 #include "engine/udp_device.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "ui/attempt_runner.hpp"
@@ -116,8 +117,17 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     err << db.error().message << "\n";
     return 2;
   }
+  if (!scenario.curriculum.empty()) {
+    if (auto c = upsert_curriculum(db.value(), CurriculumRecord{scenario.curriculum,
+                                                                scenario.curriculum});
+        !c) {
+      err << c.error().message << "\n";
+      return 2;
+    }
+  }
   ModuleRecord module;
   module.id = scenario.id;
+  if (!scenario.curriculum.empty()) module.curriculum_id = scenario.curriculum;
   module.position = scenario.module_order;
   module.title = scenario.title;
   module.scenario_path = scenario.path;
@@ -128,7 +138,30 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     err << registered.error().message << "\n";
     return 2;
   }
+  // Proficiency-based progression: a trainee may take a module once its prerequisites are
+  // mastered, unless an instructor overrides (recorded with the attempt). Practice attempts
+  // (no trainee) are never locked.
+  if (options.override_lock && options.override_by.empty()) {
+    err << "--override needs --override-by NAME (who decided)\n";
+    return 2;
+  }
+  if (options.trainee && !options.override_lock) {
+    auto decision = check_unlocked(db.value(), *options.trainee, scenario.id);
+    if (!decision) {
+      err << decision.error().message << "\n";
+      return 2;
+    }
+    if (!decision.value().unlocked) {
+      err << "module '" << scenario.id << "' is locked for trainee '" << *options.trainee
+          << "': " << decision.value().reason
+          << " (an instructor may allow it with --override --override-by NAME)\n";
+      return 4;
+    }
+  }
   AttemptStart start;
+  start.override_lock = options.override_lock;
+  start.override_by = options.override_by;
+  start.override_reason = options.override_reason;
   start.trainee_id = options.trainee;
   start.module_id = scenario.id;
   start.input_device = options.input;

@@ -13,6 +13,9 @@ struct RunOptions {
   /// docs/haptic-bridge.md) or mouse (mouse and keyboard; needs the window).
   std::string input = "replay:";
   std::optional<std::string> trainee;  ///< none: a practice attempt
+  bool override_lock = false;     ///< an instructor lets the trainee take a locked module
+  std::string override_by;        ///< who decided (required with override_lock)
+  std::string override_reason;
   std::string db;                 ///< empty: default_database_path()
   std::string png;                ///< final frame picture, when set
   std::string record;             ///< also write the recording to this file, when set
@@ -36,7 +39,7 @@ struct RunOptions {
 
 /// Exit codes: 0 attempt completed (passed or not), 1 the simulation failed numerically,
 /// 2 bad input (scenario, trajectory, database, no device bridge), 3 the attempt was abandoned
-/// (window closed before the end; stored as aborted).
+/// (window closed before the end; stored as aborted), 4 the module is locked for this trainee.
 int run_run(const RunOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace acdr
