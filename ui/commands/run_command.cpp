@@ -201,6 +201,8 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     view.screenshot_at_s = options.screenshot_at_s;
     view.score_screenshot = options.score_screenshot;
     view.close_after_s = options.close_after_s;
+    view.input_label = options.input;
+    view.loop.realtime_priority = options.realtime;
     std::string store_error;
     TraineeViewOutcome outcome = run_trainee_view(
         scenario, world, device.get(), view, [&](const AttemptRun& finished) -> std::string {
@@ -225,7 +227,9 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   } else {
     if (udp) {
       // A live device: step on the haptic thread at the scenario's rate, paced by the clock.
-      LiveAttempt attempt(scenario, world, *device);
+      HapticLoopOptions loop;
+      loop.realtime_priority = options.realtime;
+      LiveAttempt attempt(scenario, world, *device, loop);
       attempt.start();
       run = attempt.wait();
       haptics.loop = attempt.haptic_stats();
