@@ -10,7 +10,7 @@
 namespace acdr {
 
 ScalarGrid sample_function(const std::function<double(const Vec3&)>& f, const Vec3& min_m,
-                           const Vec3& max_m, double spacing_m) {
+                           const Vec3& max_m, double spacing_m, bool lipschitz) {
   ScalarGrid g;
   g.spacing_m = spacing_m;
   g.origin_m = min_m;
@@ -19,9 +19,28 @@ ScalarGrid sample_function(const std::function<double(const Vec3&)>& f, const Ve
   g.ny = static_cast<int>(std::ceil(size.y() / spacing_m)) + 1;
   g.nz = static_cast<int>(std::ceil(size.z() / spacing_m)) + 1;
   g.values.resize(static_cast<std::size_t>(g.nx) * g.ny * g.nz);
-  for (int k = 0; k < g.nz; ++k)
-    for (int j = 0; j < g.ny; ++j)
-      for (int i = 0; i < g.nx; ++i) g.values[g.index(i, j, k)] = f(g.point(i, j, k));
+  if (!lipschitz) {
+    for (int k = 0; k < g.nz; ++k)
+      for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) g.values[g.index(i, j, k)] = f(g.point(i, j, k));
+    return g;
+  }
+  constexpr int kBlock = 8;
+  for (int k0 = 0; k0 < g.nz; k0 += kBlock) {
+    for (int j0 = 0; j0 < g.ny; j0 += kBlock) {
+      for (int i0 = 0; i0 < g.nx; i0 += kBlock) {
+        const int i1 = std::min(i0 + kBlock, g.nx), j1 = std::min(j0 + kBlock, g.ny),
+                  k1 = std::min(k0 + kBlock, g.nz);
+        const Vec3 lo = g.point(i0, j0, k0), hi = g.point(i1 - 1, j1 - 1, k1 - 1);
+        const double centre_value = f(0.5 * (lo + hi));
+        const bool far = std::abs(centre_value) > 0.5 * (hi - lo).norm() + 1.5 * spacing_m;
+        for (int k = k0; k < k1; ++k)
+          for (int j = j0; j < j1; ++j)
+            for (int i = i0; i < i1; ++i)
+              g.values[g.index(i, j, k)] = far ? centre_value : f(g.point(i, j, k));
+      }
+    }
+  }
   return g;
 }
 

@@ -30,8 +30,15 @@ struct ScalarGrid {
 };
 
 /// Samples `f` on a grid of `spacing_m` covering [min_m, max_m] (rounded outward to whole cells).
+///
+/// With `lipschitz` (f changes by at most the distance moved, as exact and blended distance
+/// functions do) the grid is sampled coarse to fine: f is evaluated at the centre of each
+/// block of 8^3 samples, and a block whose centre is farther from the surface than its
+/// half-diagonal plus 1.5 spacings is filled with that value instead of being sampled. Its
+/// samples then have the right sign and none of them touches a grid edge the surface
+/// crosses, so the extracted surface is the same as from full sampling.
 ScalarGrid sample_function(const std::function<double(const Vec3&)>& f, const Vec3& min_m,
-                           const Vec3& max_m, double spacing_m);
+                           const Vec3& max_m, double spacing_m, bool lipschitz = false);
 
 /// The zero level set of the sampled function, counter-clockwise seen from where f > 0.
 /// Samples equal to zero count as outside. Crossings are kept at least 1 % of an edge away

@@ -63,6 +63,22 @@ TEST(IsoSurface, SamplesOnTheSurfaceDoNotDegenerate) {
   EXPECT_NEAR(c.volume_m3, 8e-9, 0.05 * 8e-9);
 }
 
+TEST(IsoSurface, CoarseToFineSamplingGivesTheSameSurface) {
+  // A union of a box and a rod: a bound on the distance, not exact, still 1-Lipschitz.
+  const auto f = [](const Vec3& p) {
+    const Vec3 q = p.cwiseAbs() - Vec3(2e-3, 1e-3, 1.5e-3);
+    const double box = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+    const double rod = std::max(std::hypot(p.y(), p.z() - 1.5e-3) - 0.8e-3, std::abs(p.x()) - 4e-3);
+    return std::min(box, rod);
+  };
+  const Vec3 lo(-6e-3, -3e-3, -3e-3), hi(6e-3, 3e-3, 4e-3);
+  const ScalarGrid full = sample_function(f, lo, hi, 0.2e-3, false);
+  const ScalarGrid fast = sample_function(f, lo, hi, 0.2e-3, true);
+  const TriangleMesh a = extract_iso_surface(full), b = extract_iso_surface(fast);
+  EXPECT_EQ(a.content_hash(), b.content_hash());
+  EXPECT_GT(a.triangle_count(), 1000u);
+}
+
 TEST(IsoSurface, EmptyWhenNothingCrosses) {
   const auto outside = [](const Vec3&) { return 1.0; };
   EXPECT_EQ(extract_iso_surface(sample_function(outside, Vec3::Zero(), Vec3::Constant(1e-3), 0.5e-3))
