@@ -119,8 +119,10 @@ SignedDistanceGrid SignedDistanceGrid::build(const TriangleMesh& mesh, const Sdf
   }
 
   // 2. Fast sweeping (Zhao 2005) in the 8 diagonal orders: each point tries the closest
-  // triangles of its already-visited neighbours. Two passes, as makelevelset3 does.
-  for (int pass = 0; pass < 2; ++pass) {
+  // triangles of its already-visited neighbours. Points within the band already hold their
+  // exact closest triangle (every triangle that near was tried) and are left alone. One pass
+  // of 8 sweeps; makelevelset3 does two, which changed no test here but doubled the time.
+  for (int pass = 0; pass < 1; ++pass) {
     for (int sweep = 0; sweep < 8; ++sweep) {
       const int di = (sweep & 1) ? -1 : 1, dj = (sweep & 2) ? -1 : 1, dk = (sweep & 4) ? -1 : 1;
       const int is = di > 0 ? 1 : nx - 2, ie = di > 0 ? nx : -1;
@@ -130,6 +132,7 @@ SignedDistanceGrid SignedDistanceGrid::build(const TriangleMesh& mesh, const Sdf
         for (int j = js; j != je; j += dj)
           for (int i = is; i != ie; i += di) {
             const std::size_t id = index(i, j, k);
+            if (dist[id] <= band) continue;
             const Vec3 p = point(i, j, k);
             for (int m = 1; m < 8; ++m) {
               const std::size_t nb = index(i - ((m & 1) ? di : 0), j - ((m & 2) ? dj : 0),

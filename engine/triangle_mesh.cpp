@@ -108,6 +108,46 @@ std::uint64_t TriangleMesh::content_hash() const {
   return h;
 }
 
+namespace {
+constexpr char kMeshMagic[8] = {'A', 'C', 'D', 'R', 'M', 'S', 'H', '1'};
+}  // namespace
+
+std::string TriangleMesh::serialize() const {
+  const std::uint64_t nv = vertices.size(), nt = triangles.size();
+  std::string out(sizeof kMeshMagic + 16 + nv * sizeof(Vec3) + nt * sizeof(triangles[0]), '\0');
+  char* at = out.data();
+  std::memcpy(at, kMeshMagic, sizeof kMeshMagic);
+  std::memcpy(at + 8, &nv, 8);
+  std::memcpy(at + 16, &nt, 8);
+  if (nv) std::memcpy(at + 24, vertices.data(), nv * sizeof(Vec3));
+  if (nt) std::memcpy(at + 24 + nv * sizeof(Vec3), triangles.data(), nt * sizeof(triangles[0]));
+  return out;
+}
+
+std::optional<TriangleMesh> TriangleMesh::deserialize(std::string_view bytes, std::string* error) {
+  auto fail = [&](const std::string& why) -> std::optional<TriangleMesh> {
+    if (error) *error = why;
+    return std::nullopt;
+  };
+  if (bytes.size() < 24 || std::memcmp(bytes.data(), kMeshMagic, 8) != 0) return fail("not a mesh cache file");
+  std::uint64_t nv = 0, nt = 0;
+  std::memcpy(&nv, bytes.data() + 8, 8);
+  std::memcpy(&nt, bytes.data() + 16, 8);
+  if (nv > (1ull << 32) || nt > (1ull << 32) ||
+      bytes.size() != 24 + nv * sizeof(Vec3) + nt * sizeof(std::array<std::uint32_t, 3>)) {
+    return fail("size does not match its counts (truncated?)");
+  }
+  TriangleMesh m;
+  m.vertices.resize(nv);
+  m.triangles.resize(nt);
+  if (nv) std::memcpy(m.vertices.data(), bytes.data() + 24, nv * sizeof(Vec3));
+  if (nt) std::memcpy(m.triangles.data(), bytes.data() + 24 + nv * sizeof(Vec3), nt * sizeof(m.triangles[0]));
+  for (const auto& t : m.triangles) {
+    if (t[0] >= nv || t[1] >= nv || t[2] >= nv) return fail("a triangle refers to a missing vertex");
+  }
+  return m;
+}
+
 std::string format_point_mm(const Vec3& p) {
   char text[96];
   std::snprintf(text, sizeof text, "(%.2f, %.2f, %.2f mm)", p.x() * 1e3, p.y() * 1e3, p.z() * 1e3);

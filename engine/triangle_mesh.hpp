@@ -6,7 +6,9 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/types.hpp"
@@ -40,6 +42,11 @@ struct TriangleMesh {
   /// The mesh's bytes (vertex coordinates then indices), hashed with FNV-1a 64: a content key
   /// for caches (signed distance grids).
   std::uint64_t content_hash() const;
+
+  /// Raw bytes (counts, vertices, triangles) for a disk cache, and back; `deserialize` checks
+  /// sizes and indices and says what is wrong.
+  std::string serialize() const;
+  static std::optional<TriangleMesh> deserialize(std::string_view bytes, std::string* error);
 };
 
 /// What `check_closed_mesh` found. Counts are of undirected edges / triangles.

@@ -7,13 +7,17 @@
 #include <cmath>
 #include <sstream>
 
+#include "engine/disk_cache.hpp"
 #include "engine/iso_surface.hpp"
+#include "engine/state_hash.hpp"
 #include "engine/sdf_primitives.hpp"
 
 namespace acdr {
 namespace {
 
 constexpr double kMm = 1e-3;
+// Bump whenever the shape code below changes: cached meshes are keyed by it.
+constexpr std::uint32_t kShapeVersion = 1;
 constexpr double kBlend = 1.0 * kMm;        // fillet radius where parts meet
 constexpr double kJointGap = 0.5 * kMm;     // uncovertebral joint: clearance around the uncinate
 
@@ -243,6 +247,37 @@ TriangleMesh generate_vertebra(const SegmentParams& p, VertebraLevel level,
     stats->triangles = mesh.triangle_count();
     stats->volume_m3 = mesh.signed_volume();
   }
+  return mesh;
+}
+
+TriangleMesh load_or_generate_vertebra(const SegmentParams& p, VertebraLevel level,
+                                       const std::string& cache_dir, VertebraMeshStats* stats,
+                                       bool* from_cache) {
+  const auto start = std::chrono::steady_clock::now();
+  if (from_cache) *from_cache = false;
+  // The parameter structs hold doubles only, so their bytes are their values.
+  static_assert(sizeof(VertebraParams) % sizeof(double) == 0 && sizeof(SegmentParams) % sizeof(double) == 0);
+  std::uint64_t key = fnv1a(&kShapeVersion, sizeof kShapeVersion);
+  key = fnv1a(&p, sizeof p, key);
+  const int lv = static_cast<int>(level);
+  key = fnv1a(&lv, sizeof lv, key);
+  const std::string path = cache_dir.empty() ? "" : cache_file_path(cache_dir, key, ".mesh");
+  if (!path.empty()) {
+    if (const auto bytes = read_cache_file(path)) {
+      if (auto mesh = TriangleMesh::deserialize(*bytes, nullptr)) {
+        if (from_cache) *from_cache = true;
+        if (stats) {
+          stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          stats->samples = 0;
+          stats->triangles = mesh->triangle_count();
+          stats->volume_m3 = mesh->signed_volume();
+        }
+        return std::move(*mesh);
+      }
+    }
+  }
+  TriangleMesh mesh = generate_vertebra(p, level, stats);
+  if (!path.empty()) write_cache_file(path, mesh.serialize(), nullptr);  // a cache miss next time at worst
   return mesh;
 }
 

@@ -115,6 +115,13 @@ struct VertebraMeshStats {
 TriangleMesh generate_vertebra(const SegmentParams& params, VertebraLevel level,
                                VertebraMeshStats* stats = nullptr);
 
+/// Same mesh, through the disk cache: loaded from `cache_dir` when generated before with the
+/// same parameters (key: FNV-1a of the parameters and the shape version), else generated and
+/// stored. An empty `cache_dir` always generates. `stats->seconds` is the time either took.
+TriangleMesh load_or_generate_vertebra(const SegmentParams& params, VertebraLevel level,
+                                       const std::string& cache_dir, VertebraMeshStats* stats = nullptr,
+                                       bool* from_cache = nullptr);
+
 /// Checks the parameters (positive sizes, the disc fitting between the uncinate processes,
 /// the foramen clear of the body...). Empty when fine, else "c4.endplate_width_m: ..." lines.
 std::string validate_segment_params(const SegmentParams& params);

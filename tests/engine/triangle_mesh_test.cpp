@@ -94,5 +94,17 @@ TEST(TriangleMesh, WeldMergesIdenticalPointsInOrderOfUse) {
   EXPECT_NE(soup.content_hash(), box.content_hash());  // same shape, other numbering
 }
 
+TEST(TriangleMesh, SerializeRoundTripsAndRefusesDamage) {
+  const TriangleMesh s = make_sphere_mesh(Vec3(1e-3, 2e-3, 3e-3), 2e-3, 2);
+  std::string bytes = s.serialize();
+  std::string error;
+  const auto back = TriangleMesh::deserialize(bytes, &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->content_hash(), s.content_hash());
+  bytes.pop_back();
+  EXPECT_FALSE(TriangleMesh::deserialize(bytes, &error));
+  EXPECT_NE(error.find("truncated"), std::string::npos) << error;
+}
+
 }  // namespace
 }  // namespace acdr

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <random>
 
 #include "engine/sdf_primitives.hpp"
@@ -135,6 +136,28 @@ TEST(VertebraGenerator, SmallerSpineScalesTheMesh) {
   const double v_normal = generate_vertebra(normal, VertebraLevel::kC5).signed_volume();
   EXPECT_LT(v_small, 0.9 * v_normal);
   EXPECT_TRUE(check_closed_mesh(generate_vertebra(small, VertebraLevel::kC4)).ok);
+}
+
+TEST(VertebraGenerator, SecondStartLoadsTheMeshFromTheCache) {
+  const auto dir = (std::filesystem::temp_directory_path() / "acdr_vertebra_cache_test").string();
+  std::filesystem::remove_all(dir);
+  SegmentParams p;
+  p.mesh_spacing_m = 0.9e-3;
+  bool cached = true;
+  VertebraMeshStats first, second;
+  const TriangleMesh a = load_or_generate_vertebra(p, VertebraLevel::kC5, dir, &first, &cached);
+  EXPECT_FALSE(cached);
+  const TriangleMesh b = load_or_generate_vertebra(p, VertebraLevel::kC5, dir, &second, &cached);
+  EXPECT_TRUE(cached);
+  EXPECT_EQ(a.content_hash(), b.content_hash());
+  EXPECT_EQ(second.triangles, a.triangle_count());
+  // Another level or other parameters are other entries.
+  load_or_generate_vertebra(p, VertebraLevel::kC4, dir, nullptr, &cached);
+  EXPECT_FALSE(cached);
+  p.disc_height_m = 5.0e-3;
+  load_or_generate_vertebra(p, VertebraLevel::kC5, dir, nullptr, &cached);
+  EXPECT_FALSE(cached);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
