@@ -215,8 +215,8 @@ SegmentLandmarks segment_landmarks(const SegmentParams& p) {
     // through the intervertebral foramen between the C4 and C5 pedicles in front of the facet
     // joint, and passes behind the vertebral artery (its tip 1.3-2.0 mm from the posterior
     // uncinate tip, Kim 2012).
-    l.nerve_root_m[i] = {Vec3(s * (cw2 - 3.7 * kMm), 1.5 * kMm, zb - 3.5 * kMm),
-                         Vec3(s * (cw2 + 1.3 * kMm), 0.5 * kMm, zb - 2.0 * kMm),
+    l.nerve_root_m[i] = {Vec3(s * (cw2 - 3.7 * kMm), 1.5 * kMm, zb - 2.5 * kMm),
+                         Vec3(s * (cw2 + 1.3 * kMm), 0.5 * kMm, zb - 1.5 * kMm),
                          Vec3(s * (x_ft + l.foramen_radius_m + 1.0 * kMm), -1.5 * kMm,
                               z_ft - l.foramen_radius_m - 1.3 * kMm)};
     l.uncinate_posterior_tip_m[i] =
