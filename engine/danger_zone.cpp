@@ -13,37 +13,53 @@ namespace acdr {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kSurfaceStep = 0.5e-3;  // spacing of sample points on blade and cup surfaces
-constexpr double kMarchTolerance = 0.05e-3;
+constexpr double kSurfaceStep = 1.0e-3;  // lattice on blade faces, refined by pattern search
+constexpr double kSegmentStep = 0.5e-3;  // samples along the shaft, refined by golden section
 
-/// Minimum of the zone distance along segment a-b, within kMarchTolerance. The distance is
-/// 1-Lipschitz along the segment, so an interval [t0, t1] with end values g0, g1 cannot go
-/// below (g0 + g1 - (t1 - t0)) / 2; intervals whose bound cannot beat the best value found
-/// are dropped, the others halved (Piyavskii 1972 / Shubert 1972). Fixed stack, no allocation.
+/// Golden-section refinement of a 1-D minimum bracketed in [lo, hi] (12 steps: 0.3 % of it).
+template <class F>
+double refine_1d(F&& f, double lo, double hi, double best) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < 12; ++i) {
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo);
+      f1 = f(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo);
+      f2 = f(x2);
+    }
+  }
+  return std::min({best, f1, f2});
+}
+
+/// Minimum of the zone distance along segment a-b: samples kSegmentStep apart, skipping ahead
+/// where the distance is far above the best so far (it is 1-Lipschitz along the segment, so
+/// no skipped point can beat the best), then a golden-section refinement around the best.
 double min_along_segment(const DangerZone& z, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double len = ab.norm();
-  const double g_a = z.signed_distance(a);
-  if (len == 0.0) return g_a;
-  const double g_b = z.signed_distance(b);
-  double best = std::min(g_a, g_b);
-  struct Interval {
-    double t0, t1, g0, g1;
-  };
-  Interval stack[64];
-  int top = 0;
-  stack[top++] = {0.0, 1.0, g_a, g_b};
-  while (top > 0) {
-    const Interval iv = stack[--top];
-    const double bound = 0.5 * (iv.g0 + iv.g1 - (iv.t1 - iv.t0) * len);
-    if (bound >= best - kMarchTolerance || top + 2 > 64) continue;
-    const double tm = 0.5 * (iv.t0 + iv.t1);
-    const double gm = z.signed_distance(a + tm * ab);
-    best = std::min(best, gm);
-    stack[top++] = {iv.t0, tm, iv.g0, gm};
-    stack[top++] = {tm, iv.t1, gm, iv.g1};
+  if (len == 0.0) return z.signed_distance(a);
+  const Vec3 u = ab / len;
+  const auto g = [&](double t) { return z.signed_distance(a + t * u); };
+  double best = kInf, t_best = 0.0, t = 0.0;
+  for (;;) {
+    const double v = g(t);
+    if (v < best) {
+      best = v;
+      t_best = t;
+    }
+    if (t >= len) break;
+    t = std::min(len, t + std::max(kSegmentStep, v - best));
   }
-  return best;
+  return refine_1d(g, std::max(0.0, t_best - kSegmentStep), std::min(len, t_best + kSegmentStep), best);
 }
 
 /// Minimum of the zone distance over a parametrised surface patch: a lattice of samples about
@@ -106,19 +122,42 @@ double box_collider_distance(const DangerZone& z, const Collider& c) {
   return best;
 }
 
+/// Cup: a hemispherical shell (outer radius R, open toward local +z). Seen from a zone, the
+/// nearest point of the solid hemisphere lies on the outer sphere when the zone is on the
+/// closed side (distance = d(centre) - R, exact for convex zones), else on the rim: then
+/// both rim circles are searched. Typically 7 zone evaluations.
 double cup_collider_distance(const DangerZone& z, const Collider& c) {
-  // Outer and inner hemispheres (local z <= 0, open at +z), in polar angle and azimuth.
+  const Vec3& o = c.pose.position;
+  const double R = c.radius_m;
+  const double dc = z.signed_distance(o);
+  // Direction from the centre toward the zone: minus the gradient (central differences).
+  constexpr double h = 0.05e-3;
+  Vec3 grad;
+  for (int k = 0; k < 3; ++k) {
+    Vec3 e = Vec3::Zero();
+    e[k] = h;
+    grad[k] = (z.signed_distance(o + e) - z.signed_distance(o - e)) / (2.0 * h);
+  }
+  const Vec3 opening = c.pose.orientation * Vec3::UnitZ();
+  if (-grad.dot(opening) <= 0.0 || grad.squaredNorm() == 0.0) return dc - R;
+  // Zone on the open side: search the outer and inner rim circles.
+  const Vec3 ex = c.pose.orientation * Vec3::UnitX(), ey = c.pose.orientation * Vec3::UnitY();
   double best = kInf;
-  for (double r : {c.radius_m, c.radius_m - c.thickness_m}) {
+  for (double r : {R, R - c.thickness_m}) {
     if (r <= 0.0) continue;
-    const int rings = std::max(3, static_cast<int>(std::ceil(0.5 * std::numbers::pi * r / kSurfaceStep)) + 1);
-    const int around = std::max(8, static_cast<int>(std::ceil(2 * std::numbers::pi * r / kSurfaceStep)));
-    const auto point = [&](double polar, double az) {
-      return c.pose.apply(Vec3(r * std::sin(polar) * std::cos(az), r * std::sin(polar) * std::sin(az),
-                               -r * std::cos(polar)));
-    };
-    best = std::min(best, min_over_patch(z, point, 0.0, 0.5 * std::numbers::pi, 0.0,
-                                         2.0 * std::numbers::pi, rings, around + 1));
+    const auto g = [&](double az) { return z.signed_distance(o + r * (std::cos(az) * ex + std::sin(az) * ey)); };
+    constexpr int kAround = 16;
+    double local = kInf, az_best = 0.0;
+    for (int j = 0; j < kAround; ++j) {
+      const double az = 2.0 * std::numbers::pi * j / kAround;
+      const double v = g(az);
+      if (v < local) {
+        local = v;
+        az_best = az;
+      }
+    }
+    const double step = 2.0 * std::numbers::pi / kAround;
+    best = std::min(best, refine_1d(g, az_best - step, az_best + step, local));
   }
   return best;
 }
@@ -224,7 +263,8 @@ void evaluate_zones(std::span<const DangerZone> zones, std::span<const Collider>
 }
 
 std::vector<DangerZone> make_c4c5_zones(const SegmentParams& params, const SegmentLandmarks& l,
-                                        const SignedDistanceGrid* bone, const C4C5ZoneParams& zp) {
+                                        const SignedDistanceGrid* c4_bone,
+                                        const SignedDistanceGrid* c5_bone, const C4C5ZoneParams& zp) {
   std::vector<DangerZone> zones;
   const char* side_name[2] = {"left", "right"};  // +x is the patient's left
   const double y_top = 0.5 * params.disc_height_m + params.c4.body_height_m;
@@ -273,10 +313,12 @@ std::vector<DangerZone> make_c4c5_zones(const SegmentParams& params, const Segme
     zones.push_back(z);
   }
   // Endplates: the bone facing the disc space, within the endplate's outline.
-  if (bone != nullptr) {
-    for (int level = 0; level < 2; ++level) {
+  for (int level = 0; level < 2; ++level) {
+    const bool c4 = level == 0;
+    const SignedDistanceGrid* bone = c4 ? c4_bone : c5_bone;
+    if (bone == nullptr) continue;
+    {
       DangerZone z;
-      const bool c4 = level == 0;
       z.name = c4 ? "endplate_c4_lower" : "endplate_c5_upper";
       z.shape = ZoneShape::kSdfBand;
       z.sdf = bone;

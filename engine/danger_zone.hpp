@@ -5,9 +5,9 @@
 //
 // Distances are between solids (m): positive apart, negative when the instrument overlaps
 // the zone. The instrument side is exact for its shaft against capsule and sphere zones and
-// sampled to within ~0.05 mm elsewhere (points on the blade and cup surfaces 0.5 mm apart,
-// a Lipschitz march along the shaft); beyond `kZoneFarDistance` only a lower bound is
-// computed. No allocation.
+// found by a bounded search elsewhere (the cup by its sphere and rim, the shaft by a
+// Lipschitz march, blade faces by a lattice and pattern search), within ~0.01 mm for convex
+// zones; beyond `kZoneFarDistance` only a lower bound is computed. No allocation.
 #pragma once
 
 #include <cstdint>
@@ -96,10 +96,12 @@ struct C4C5ZoneParams {
 };
 
 /// The zones generated with the anatomy, in this order: vertebral_artery_left/right,
-/// nerve_root_left/right, spinal_cord_pll, endplate_c4_lower, endplate_c5_upper (the last two
-/// only when `bone` is given: distance bands on the bone's signed distance grid).
+/// nerve_root_left/right, spinal_cord_pll, then endplate_c4_lower and endplate_c5_upper when
+/// the vertebra's own signed distance grid is given (a band on it, clipped to the endplate;
+/// one grid per vertebra, so the neighbour's bone never stands in for the zone's).
 std::vector<DangerZone> make_c4c5_zones(const SegmentParams& params, const SegmentLandmarks& l,
-                                        const SignedDistanceGrid* bone,
+                                        const SignedDistanceGrid* c4_bone,
+                                        const SignedDistanceGrid* c5_bone,
                                         const C4C5ZoneParams& zone_params = {});
 
 /// Closest distance between segments p1-q1 and p2-q2 (Ericson, Real-Time Collision

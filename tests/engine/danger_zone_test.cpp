@@ -161,15 +161,14 @@ TEST(DangerZone, GeneratedZonesSitWhereTheAnatomySays) {
   SegmentParams p;
   p.mesh_spacing_m = 0.6e-3;
   const SegmentLandmarks l = segment_landmarks(p);
-  TriangleMesh bone = generate_vertebra(p, VertebraLevel::kC4);
-  bone.append(generate_vertebra(p, VertebraLevel::kC5));
   SdfGridParams gp;
   gp.spacing_m = 0.4e-3;
   gp.clip = true;
   gp.clip_min_m = Vec3(-12 * kMm, -6 * kMm, -12 * kMm);
   gp.clip_max_m = Vec3(12 * kMm, 6 * kMm, 10 * kMm);
-  const SignedDistanceGrid grid = SignedDistanceGrid::build(bone, gp);
-  const std::vector<DangerZone> zones = make_c4c5_zones(p, l, &grid);
+  const SignedDistanceGrid c4 = SignedDistanceGrid::build(generate_vertebra(p, VertebraLevel::kC4), gp);
+  const SignedDistanceGrid c5 = SignedDistanceGrid::build(generate_vertebra(p, VertebraLevel::kC5), gp);
+  const std::vector<DangerZone> zones = make_c4c5_zones(p, l, &c4, &c5);
   ASSERT_EQ(zones.size(), 7u);
   EXPECT_EQ(zones[0].name, "vertebral_artery_left");
   EXPECT_EQ(zones[4].name, "spinal_cord_pll");
@@ -181,11 +180,12 @@ TEST(DangerZone, GeneratedZonesSitWhereTheAnatomySays) {
   cup.kind = ColliderKind::kCupShell;
   cup.radius_m = 1.9 * kMm;
   cup.thickness_m = 0.4 * kMm;
-  cup.pose.position = Vec3(0, 0, 1 * kMm);
+  cup.pose.position = Vec3(0, -0.5 * kMm, 1 * kMm);  // 0.5 mm nearer C5
   std::vector<ZoneSample> out(zones.size());
   evaluate_zones(zones, std::span<const Collider>(&cup, 1), Vec3::Zero(), out);
   for (std::size_t i = 0; i < zones.size(); ++i) EXPECT_FALSE(out[i].warning) << zones[i].name;
-  EXPECT_NEAR(out[5].distance_m, 0.5 * p.disc_height_m - 1.9 * kMm, 0.15 * kMm);
+  EXPECT_NEAR(out[5].distance_m, 0.5 * p.disc_height_m + 0.5 * kMm - 1.9 * kMm, 0.05 * kMm);
+  EXPECT_NEAR(out[6].distance_m, 0.5 * p.disc_height_m - 0.5 * kMm - 1.9 * kMm, 0.05 * kMm);
   EXPECT_GT(out[0].distance_m, 8 * kMm);  // artery far lateral
 
   // Pushed to the posterolateral corner of the disc space, next to the uncinate process: the
