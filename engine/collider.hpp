@@ -38,6 +38,10 @@ struct Collider {
 /// outward unit normal at the closest surface point.
 double signed_distance(const Collider& c, const Vec3& p, Vec3* normal);
 
+/// The same in the collider's local frame: `local_p` and the returned normal are local.
+/// Exact (never overestimates |distance|), so it can be sphere-traced.
+double signed_distance_local(const Collider& c, const Vec3& local_p, Vec3* local_normal);
+
 /// Force and torque the particles exert on one moving body in a step, and the linearised
 /// drag d(force)/d(velocity) the body should treat implicitly for stability.
 struct BodyReaction {

@@ -1,13 +1,19 @@
 // The nucleus pulposus (and optional annulus) as particles joined by breakable springs with
 // Newtonian viscosity (seed Eq. 2-3, 9-10). Structure of arrays, capacities fixed at build,
 // no allocation inside step().
+//
+// The step is one linearised backward-Euler solve for all particle velocities (see
+// nucleus.cpp for the model and the argument for it): viscosity, bond stiffness and a
+// density-based pressure are implicit, contacts are velocity constraints inside the solve.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "engine/collider.hpp"
+#include "engine/neighbor_grid.hpp"
 #include "engine/world_config.hpp"
 
 namespace acdr {
@@ -20,15 +26,59 @@ struct NumericalReport {
   double residual = 0.0;   ///< final relative residual
 };
 
+/// Solver options that are not part of a scene file (tests, verification and benchmarks set
+/// them). Defaults are what the World uses.
+struct NucleusOptions {
+  /// Interaction radius in units of the spacing h: viscosity and pressure act between particles
+  /// closer than this. 1.5 takes the 18 nearest lattice neighbours (6 at h, 12 at sqrt(2)h).
+  double neighbor_radius_factor = 1.5;
+  /// Particles are kept this far (in units of h) from solid surfaces: half a spacing, so a
+  /// lattice touching a wall fills the space up to it.
+  double contact_radius_factor = 0.5;
+  /// Springs between particles; false makes the material a pure viscous fluid.
+  bool bonds_enabled = true;
+  /// Periodic domain along an axis when periodic[a] (for verification flows); positions wrap
+  /// into [periodic_min, periodic_max).
+  std::array<bool, 3> periodic = {false, false, false};
+  Vec3 periodic_min_m = Vec3::Zero();
+  Vec3 periodic_max_m = Vec3::Zero();
+  /// Upper bound of neighbour pairs per particle (pairs capacity = N * this / 2).
+  int max_neighbors = 48;
+};
+
+/// An explicit particle scene (verification, tests): positions, materials, fixed particles
+/// and bonds given directly instead of lattice blocks.
+struct NucleusParticleSetup {
+  struct Bond {
+    int i = 0;
+    int j = 0;
+    double stiffness_N_m = 0.0;
+    double break_stretch_m = 0.0;  ///< <= 0: unbreakable
+    double rest_length_m = -1.0;   ///< < 0: the initial distance
+  };
+  std::vector<Vec3> positions_m;
+  std::vector<Vec3> velocities_m_s;     ///< empty: at rest
+  std::vector<std::uint8_t> materials;  ///< empty: all material 0
+  std::vector<std::uint8_t> fixed;      ///< empty: none; 1 = kinematic (never integrated)
+  std::vector<Bond> bonds;
+};
+
 class Nucleus {
  public:
   /// Fills the configured blocks with particles on a cubic lattice, clipped by the static
   /// colliders (no particle starts inside a solid), and bonds neighbours.
   Nucleus(const NucleusConfig& config, const SolverConfig& solver, const Vec3& gravity_m_s2,
-          std::span<const Collider> static_colliders);
+          std::span<const Collider> static_colliders, const NucleusOptions& options = {});
+  /// An explicit scene; `config` gives spacing and materials, its blocks are ignored.
+  Nucleus(const NucleusConfig& config, const SolverConfig& solver, const Vec3& gravity_m_s2,
+          std::span<const Collider> static_colliders, const NucleusParticleSetup& setup,
+          const NucleusOptions& options = {});
 
   /// Advances by dt. `moving` are the colliders of moving bodies (the instrument) at their
-  /// current pose and velocity; `reactions[b]` receives what the particles do to body b.
+  /// pose and velocity at the start of the step (they are taken to move on at that velocity
+  /// during it); `reactions[b]` receives what the particles do to body b: force, torque about
+  /// the `reference_point` already set in it, and drag coefficients (sum of the implicit
+  /// no-slip couplings, an upper bound of d|F|/d|v|, so an implicit body update is stable).
   void step(double dt, std::span<const Collider> moving, std::span<BodyReaction> reactions,
             NumericalReport& report);
 
@@ -44,7 +94,119 @@ class Nucleus {
   /// FNV-1a over positions and velocities (bit patterns), for determinism tests.
   std::uint64_t state_hash() const;
 
-  // ... private state owned by the implementation
+  // --- extras for verification, tests and benchmarks ---
+  std::span<const double> masses() const;        ///< N, kg
+  std::span<Vec3> external_forces();             ///< N, N; added every step, caller-owned values
+  std::span<const double> pressures() const;     ///< N, Pa, at the end of the last step
+  std::span<const std::uint8_t> bond_alive() const;  ///< bonds at build, 1 while intact
+  std::span<const std::int32_t> bond_particles() const;  ///< 2 per bond: i, j
+  /// Velocity of a fixed (kinematic) particle; it moves with it. Ignored for free particles.
+  void set_fixed_velocity(std::size_t i, const Vec3& v_m_s);
+  void set_gravity(const Vec3& gravity_m_s2);
+  std::size_t pair_count() const;               ///< interaction pairs in the last step
+  double spacing_m() const;
+
+ private:
+  void init(std::span<const Collider> static_colliders, const NucleusParticleSetup& setup);
+  void wake_and_sleep(std::span<const Collider> moving, double dt);
+  void build_pairs();
+  void setup_walls(double dt, std::span<const Collider> moving);
+  void assemble(double dt);
+  void apply(std::span<const Vec3> in, std::span<Vec3> out);
+  void filter(std::span<Vec3> v) const;
+  void solve(NumericalReport& report);
+  void reactions_and_pressure(double dt, std::span<const Collider> moving,
+                              std::span<BodyReaction> reactions);
+  void integrate_and_project(double dt, std::span<const Collider> moving,
+                             std::span<BodyReaction> reactions);
+  void break_bonds();
+  Vec3 min_image(const Vec3& d) const;
+
+  NucleusConfig config_;
+  SolverConfig solver_;
+  NucleusOptions options_;
+  Vec3 gravity_;
+  std::vector<Collider> statics_;
+
+  double h_ = 1e-3;       // spacing, m
+  double volume_ = 1e-9;  // h^3, m^3
+  double radius_ = 1.5e-3;   // interaction radius R, m
+  double contact_ = 0.5e-3;  // contact distance from surfaces, m
+  double n0_ = 1.0;          // rest number density sum (kernel units) of the full lattice
+  double s0_ = 1.0;          // rest second moment sum r^2 of the full lattice, m^2
+
+  // Particles (N each).
+  std::vector<Vec3> x_;          // positions, m
+  std::vector<Vec3> v_;          // velocities, m/s
+  std::vector<Vec3> x_start_;    // positions at step start, m
+  std::vector<Vec3> f_ext_;      // external forces, N
+  std::vector<Vec3> fixed_v_;    // prescribed velocity of fixed particles, m/s
+  std::vector<double> mass_;     // kg
+  std::vector<double> mu_;       // viscosity, Pa s
+  std::vector<double> kappa_;    // bulk modulus, Pa
+  std::vector<std::uint8_t> material_;
+  std::vector<std::uint8_t> fixed_;   // 1 = kinematic
+  std::vector<std::uint8_t> awake_;   // 1 = integrated this step
+  std::vector<std::uint8_t> halo_;    // 1 = asleep but next to an awake particle
+  std::vector<std::uint8_t> wake_next_;
+  std::vector<std::uint16_t> calm_;   // consecutive calm steps
+  std::vector<std::int32_t> active_;  // indices integrated this step
+  std::size_t active_count_ = 0;
+
+  // Bonds (B each).
+  std::vector<std::int32_t> bond_ij_;  // 2B
+  std::vector<double> bond_rest_;      // m
+  std::vector<double> bond_k_;         // N/m
+  std::vector<double> bond_break_;     // m, <= 0 unbreakable
+  std::vector<std::uint8_t> bond_alive_;
+  std::vector<Vec3> bond_n_;           // unit direction i -> j this step
+  std::vector<double> bond_a_;         // dt^2 k this step, 0 if inactive
+  std::size_t broken_ = 0;
+
+  // Interaction pairs of this step (capacity P).
+  NeighborGrid grid_;
+  std::vector<std::int32_t> pair_ij_;  // 2P
+  std::vector<Vec3> pair_n_;           // unit vector i -> j
+  std::vector<double> pair_r_;         // m
+  std::vector<double> pair_visc_;      // dt * c_ij, N s/m * s
+  std::vector<double> pair_g_;         // dW/dr / n0, 1/m
+  std::size_t pairs_ = 0;
+  bool pairs_overflow_ = false;
+
+  // Per-particle step data (N each).
+  std::vector<double> second_moment_;  // sum r^2 incl. walls, m^2
+  std::vector<double> density_;        // number density sum incl. walls (kernel units)
+  std::vector<double> constraint_;     // C_i = density/n0 - 1
+  std::vector<double> press_coef_;     // dt^2 kappa V if pressure active, else 0
+  std::vector<double> pressure_;       // Pa, end of step
+  std::vector<double> wall_c_;         // dt * sum c_w
+  std::vector<Vec3> wall_g_;           // gradient of the wall density term / n0, 1/m
+  std::vector<Vec3> rhs_;
+  std::vector<Eigen::Matrix3d> diag_inv_;
+  std::vector<std::uint8_t> con_count_;     // 0..3 constrained directions
+  std::vector<std::array<Vec3, 3>> con_e_;  // orthonormal constrained directions
+  std::vector<Vec3> con_v_;                 // constrained velocity component, m/s
+  std::vector<std::uint8_t> release_;       // 1: a contact pulled last step; skip once
+
+  // Wall interactions (capacity W): a particle near a collider.
+  struct WallHit {
+    std::int32_t particle;
+    std::int32_t collider;  // index into moving (>= 0) or -1 - index into statics
+    double c;               // no-slip coupling mu A / d, N s/m
+    double gw;              // d(wall density)/dd / n0, 1/m (<= 0)
+    Vec3 normal;            // outward surface normal
+    Vec3 v_wall;            // surface velocity, m/s
+    Vec3 point;             // surface point, m
+    bool contact;           // a velocity constraint in the solve
+  };
+  std::vector<WallHit> walls_;
+  std::size_t wall_count_ = 0;
+  static constexpr int kMaxMoving = 16;
+  std::array<Pose, kMaxMoving> end_pose_;  // moving collider poses at the end of the step
+
+  // Solver scratch (N each).
+  std::vector<Vec3> r_, z_, p_, q_;
+  std::vector<double> s_;  // per-particle divergence scratch
 };
 
 }  // namespace acdr

@@ -6,7 +6,7 @@
 #include "ui/commands/make_trajectory_command.hpp"
 #include "ui/commands/render_command.hpp"
 #include "ui/commands/run_command.hpp"
-#include "ui/commands/validate_command.hpp"
+
 
 int main(int argc, char** argv) {
   CLI::App app{"ACDR Trainer: scooping simulation and assessment for artificial cervical disc "
@@ -28,12 +28,6 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--json", run.json, "Print the result as JSON on stdout");
   run_cmd->add_flag("--headless", run.headless, "No window (the only mode in this build)");
   run_cmd->callback([&] { code = acdr::run_run(run, std::cout, std::cerr); });
-
-  // acdr validate
-  std::vector<std::string> validate_files;
-  auto* validate_cmd = app.add_subcommand("validate", "Check scenario files");
-  validate_cmd->add_option("files", validate_files, "Scenario files")->required();
-  validate_cmd->callback([&] { code = acdr::run_validate(validate_files, std::cout); });
 
   // acdr render
   acdr::RenderOptions render;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -14,15 +15,26 @@ namespace acdr {
 struct RenderMesh {
   std::vector<Eigen::Vector3f> vertices;
   std::vector<std::uint32_t> indices;  ///< triangles, counter-clockwise seen from outside
+  /// Optional outward unit normals, one per vertex (local frame). Empty: the renderer computes
+  /// them from the triangles, smooth across edges flatter than ~35 degrees and sharp across
+  /// steeper ones (box edges stay crisp, spheres stay round).
+  std::vector<Eigen::Vector3f> normals;
   Eigen::Affine3f pose = Eigen::Affine3f::Identity();
   Eigen::Vector4f rgba = Eigen::Vector4f(0.8f, 0.8f, 0.8f, 1.0f);  ///< a < 1: translucent
+  float specular = 0.25f;  ///< strength of highlights, 0..1 (steel ~0.7, bone ~0.15)
+  /// Non-zero: a promise that vertices, indices and normals are the same every time this id is
+  /// drawn (pose and colour may change), so a renderer uploads them once and keeps them.
+  /// 0: uploaded again on every frame (fine for small or changing meshes).
+  std::uint64_t geometry_id = 0;
 };
 
 /// Particles drawn as lit spheres (or sprites), one colour per particle.
 struct RenderParticles {
   std::vector<Eigen::Vector3f> positions;
-  std::vector<Eigen::Vector4f> colors;
+  std::vector<Eigen::Vector4f> colors;  ///< one per position (or empty: all `default_color`);
+                                        ///< alpha 0 hides a particle, other alphas are opaque
   float radius_m = 0.5e-3f;
+  Eigen::Vector4f default_color = Eigen::Vector4f(0.93f, 0.80f, 0.45f, 1.0f);
 };
 
 struct RenderCamera {
@@ -34,11 +46,22 @@ struct RenderCamera {
   float far_m = 1.0f;
 };
 
+/// A ground plane the renderer adds under the scene as a depth cue: a faint grid on a plane
+/// that fades out with distance, lit like the rest (it is not part of the physics).
+struct RenderGround {
+  bool visible = true;
+  /// z of the plane (m); NaN: just under the lowest point of the scene.
+  float height_m = std::numeric_limits<float>::quiet_NaN();
+  Eigen::Vector3f rgb = Eigen::Vector3f(0.42f, 0.43f, 0.46f);
+  float grid_spacing_m = 0.01f;  ///< distance between grid lines (m); 0: no grid
+};
+
 struct RenderScene {
   std::vector<RenderMesh> meshes;   ///< opaque first, translucent drawn after, back to front
   RenderParticles particles;
   RenderCamera camera;
   Eigen::Vector3f background = Eigen::Vector3f(0.12f, 0.13f, 0.16f);
+  RenderGround ground;
 };
 
 }  // namespace acdr

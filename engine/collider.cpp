@@ -1,0 +1,104 @@
+// Signed distance functions of the collider shapes (Quilez-style exact distances for box,
+// capsule and spherical shell). Exact distances matter: the nucleus contact sphere-traces
+// particle paths against them, which is only conservative when |sd| never overestimates.
+#include "engine/collider.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace acdr {
+namespace {
+
+/// Exact signed distance to an axis-aligned box of half extents `b` centred at the origin.
+double box_distance(const Vec3& p, const Vec3& b, Vec3* normal) {
+  const Vec3 q = p.cwiseAbs() - b;
+  if ((q.array() > 0.0).any()) {
+    // Outside: distance to the nearest point of the box.
+    const Vec3 outside = q.cwiseMax(0.0);
+    const double d = outside.norm();
+    if (normal) {
+      Vec3 n(std::copysign(outside.x(), p.x()), std::copysign(outside.y(), p.y()),
+             std::copysign(outside.z(), p.z()));
+      *normal = n / d;
+    }
+    return d;
+  }
+  // Inside: the nearest face is the one with the largest (least negative) q.
+  int axis = 0;
+  if (q.y() > q[axis]) axis = 1;
+  if (q.z() > q[axis]) axis = 2;
+  if (normal) {
+    *normal = Vec3::Zero();
+    (*normal)[axis] = p[axis] >= 0.0 ? 1.0 : -1.0;
+  }
+  return q[axis];
+}
+
+/// Capsule around the local z segment [-half_length, half_length].
+double capsule_distance(const Vec3& p, double half_length, double radius, Vec3* normal) {
+  const Vec3 c(0.0, 0.0, std::clamp(p.z(), -half_length, half_length));
+  Vec3 r = p - c;
+  double len = r.norm();
+  if (normal) {
+    if (len > 1e-15) {
+      *normal = r / len;
+    } else {
+      *normal = Vec3::UnitX();  // on the axis: any radial direction
+    }
+  }
+  return len - radius;
+}
+
+/// Lower hemispherical shell, centre at the origin, outer radius R, wall t, open toward +z.
+/// Below the rim plane the distance is to the spherical shell; above it, to the rim annulus.
+double cup_distance(const Vec3& p, double R, double t, Vec3* normal) {
+  const double mid = R - 0.5 * t;
+  if (p.z() <= 0.0) {
+    const double len = p.norm();
+    const Vec3 radial = len > 1e-15 ? Vec3(p / len) : Vec3(-Vec3::UnitZ());
+    const double d = std::abs(len - mid) - 0.5 * t;
+    if (normal) *normal = len >= mid ? radial : Vec3(-radial);
+    return d;
+  }
+  // Above the rim plane: distance to the annulus {z = 0, R - t <= rho <= R}.
+  const double rho = std::hypot(p.x(), p.y());
+  const double rho_c = std::clamp(rho, R - t, R);
+  const Vec3 dir = rho > 1e-15 ? Vec3(p.x() / rho, p.y() / rho, 0.0) : Vec3(Vec3::UnitX());
+  const Vec3 closest = rho_c * dir;
+  const Vec3 r = p - closest;
+  const double d = r.norm();
+  if (normal) *normal = d > 1e-15 ? Vec3(r / d) : Vec3(Vec3::UnitZ());
+  return d;
+}
+
+}  // namespace
+
+double signed_distance_local(const Collider& c, const Vec3& local, Vec3* normal) {
+  Vec3 n_local = Vec3::UnitZ();
+  double d = 0.0;
+  switch (c.kind) {
+    case ColliderKind::kHalfSpace:
+      d = local.z();
+      n_local = Vec3::UnitZ();
+      break;
+    case ColliderKind::kBox:
+      d = box_distance(local, c.half_extents_m, normal ? &n_local : nullptr);
+      break;
+    case ColliderKind::kCapsule:
+      d = capsule_distance(local, c.half_length_m, c.radius_m, normal ? &n_local : nullptr);
+      break;
+    case ColliderKind::kCupShell:
+      d = cup_distance(local, c.radius_m, c.thickness_m, normal ? &n_local : nullptr);
+      break;
+  }
+  if (normal) *normal = n_local;
+  return d;
+}
+
+double signed_distance(const Collider& c, const Vec3& p, Vec3* normal) {
+  const double d = signed_distance_local(c, c.pose.inverse_apply(p), normal);
+  if (normal) *normal = c.pose.orientation * *normal;
+  return d;
+}
+
+}  // namespace acdr
