@@ -77,33 +77,24 @@ inline double kernel_slope(double r, double R) {
   return -6.0 * r / (R * R) * q * q;
 }
 
-/// What the missing half-space of lattice neighbours beyond a wall contributes to a particle
-/// at distance d from it: density n, its derivative dn/dd, and the second moment sum r^2.
-/// The virtual lattice continues the particle's own layers: planes at distances
-/// d + h/2 + k h behind it, laterally aligned with the particle.
-struct WallSums {
-  double n = 0.0;
-  double dn = 0.0;
-  double s2 = 0.0;
-};
-WallSums wall_sums(double d, double h, double R) {
-  WallSums out;
-  const double dd = std::max(d, 0.0);
-  const int lateral = static_cast<int>(std::floor(R / h));
-  for (int k = 0;; ++k) {
-    const double z = dd + 0.5 * h + k * h;
-    if (z >= R) break;
-    for (int a = -lateral; a <= lateral; ++a)
-      for (int b = -lateral; b <= lateral; ++b) {
-        const double rho2 = (a * a + b * b) * h * h;
-        const double r = std::sqrt(rho2 + z * z);
-        if (r >= R) continue;
-        out.n += kernel(r, R);
-        out.dn += kernel_slope(r, R) * z / r;  // dr/dd = z / r
-        out.s2 += r * r;
-      }
-  }
-  return out;
+/// Weight of a pair in the viscous operator: (1 - r/R)^1.5 on R = 2.1 h. Chosen (by lattice
+/// sums, docs/verification.md) so that the effective viscosity hardly depends on how the
+/// lattice is sheared: layers sliding past each other by any fraction of h change it by
+/// 0..+3.4 % (the sharp 18-neighbour stencil, exact at rest, loses up to 45 % when a neighbour
+/// shell leaves the cut-off), while staying within 7 % of isotropic on the cubic lattice.
+inline double viscous_weight(double r, double R) {
+  if (r >= R) return 0.0;
+  const double q = 1.0 - r / R;
+  return q * std::sqrt(q);
+}
+
+/// Smooth occupancy of a lattice site by a solid from its signed distance: 1 a half spacing
+/// inside, 0 a half spacing outside, smoothstep between (zero slope at both ends, so a
+/// particle resting at the contact distance feels no jump in stiffness).
+inline double occupancy(double sd, double h, double* slope) {
+  const double t = std::clamp(0.5 - sd / h, 0.0, 1.0);
+  if (slope) *slope = (t <= 0.0 || t >= 1.0) ? 0.0 : 6.0 * t * (1.0 - t) * (-1.0 / h);
+  return t * t * (3.0 - 2.0 * t);
 }
 
 /// Pose advanced by a constant velocity over dt.
@@ -194,11 +185,17 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   if (config_.materials.empty()) config_.materials.emplace_back();
   volume_ = h_ * h_ * h_;
   radius_ = options_.neighbor_radius_factor * h_;
+  density_radius_ = std::min(options_.density_radius_factor * h_, radius_);
   contact_ = options_.contact_radius_factor * h_;
 
   // Rest sums of the full cubic lattice: the normalisations n0 (density) and s0 (viscosity).
   n0_ = 1.0;
   s0_ = 0.0;
+  t0_ = 0.0;
+  site_offset_.clear();
+  site_w_.clear();
+  site_r2_.clear();
+  site_wv_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -206,8 +203,14 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         if (a == 0 && b == 0 && c == 0) continue;
         const double r = h_ * std::sqrt(double(a * a + b * b + c * c));
         if (r >= radius_) continue;
-        n0_ += kernel(r, radius_);
-        s0_ += r * r;
+        const double wv = viscous_weight(r, radius_);
+        n0_ += kernel(r, density_radius_);
+        s0_ += wv * r * r;
+        t0_ += wv * (a * h_) * (a * h_) * (c * h_) * (c * h_) / (r * r);
+        site_offset_.push_back(h_ * Vec3(a, b, c));
+        site_w_.push_back(kernel(r, density_radius_));
+        site_wv_.push_back(wv);
+        site_r2_.push_back(r * r);
       }
 
   const std::size_t n = setup.positions_m.size();
@@ -271,7 +274,9 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   constraint_.assign(n, 0.0);
   press_coef_.assign(n, 0.0);
   pressure_.assign(n, 0.0);
-  wall_c_.assign(n, 0.0);
+  body_force_.assign(n, Vec3::Zero());
+  wall_c_.assign(n, Eigen::Matrix3d::Zero());
+  visc_coef_.assign(n, 0.0);
   wall_g_.assign(n, Vec3::Zero());
   rhs_.assign(n, Vec3::Zero());
   diag_inv_.assign(n, Eigen::Matrix3d::Identity());
@@ -302,6 +307,7 @@ const NucleusConfig& Nucleus::config() const { return config_; }
 std::span<const double> Nucleus::masses() const { return mass_; }
 std::span<Vec3> Nucleus::external_forces() { return f_ext_; }
 std::span<const double> Nucleus::pressures() const { return pressure_; }
+std::span<const Vec3> Nucleus::body_forces() const { return body_force_; }
 std::span<const std::uint8_t> Nucleus::bond_alive() const { return bond_alive_; }
 std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_; }
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
@@ -347,6 +353,7 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
     end_pose_[m] = advance(moving[m].pose, moving[m].linear_velocity_m_s,
                            moving[m].angular_velocity_rad_s, dt);
   std::copy(x_.begin(), x_.end(), x_start_.begin());
+  std::fill(body_force_.begin(), body_force_.end(), Vec3::Zero());
 
   wake_and_sleep(moving, dt);
   build_pairs();
@@ -477,13 +484,13 @@ void Nucleus::build_pairs() {
 void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   const std::size_t n = x_.size();
   wall_count_ = 0;
-  const double wall_range = std::max(radius_ - 0.5 * h_, h_);
-  const double area = h_ * h_;
+  // A lattice site within R of the particle can be inside the solid only if d < R + h/2.
+  const double wall_range = radius_ + 0.5 * h_;
   const std::size_t n_static = statics_.size();
   for (std::size_t i = 0; i < n; ++i) {
     density_[i] = 0.0;
     second_moment_[i] = 0.0;
-    wall_c_[i] = 0.0;
+    wall_c_[i] = Eigen::Matrix3d::Zero();
     wall_g_[i] = Vec3::Zero();
     con_count_[i] = 0;
     con_v_[i] = Vec3::Zero();
@@ -510,14 +517,36 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       w.normal = normal;
       w.v_wall = vw;
       w.point = x_[i] - d * normal;
-      // No-slip coupling of the first layer: the wall's share of the shear, mu A / d.
-      w.c = d < h_ ? mu_[i] * area / std::max(d, 0.5 * contact_) : 0.0;
-      const WallSums sums = wall_sums(d, h_, radius_);
-      w.gw = sums.dn / n0_;
-      density_[i] += sums.n;
-      second_moment_[i] += sums.s2;
-      wall_c_[i] += dt * w.c;
-      wall_g_[i] += w.gw * normal;
+      // The solid fills the lattice sites a particle is missing near it: their density, its
+      // gradient, and their second moment are counted as neighbours (the role of boundary
+      // particles in Akinci et al. 2012), site by site from the signed distance, so edges,
+      // corners and thin shells count what is really solid.
+      //
+      // No-slip: the solid's sites also enter the viscous sum, each moving with the mirrored
+      // velocity v_w - (d_site / d)(v_i - v_w) of Morris, Fox & Zhu (J Comput Phys 1997), which
+      // extends the particle's velocity profile linearly through the wall to the wall velocity
+      // at the surface. A site's pair term then couples the particle to the wall velocity with
+      // (1 + d_site / d) times its weight: the tensor `visc` (scaled by the particle's viscous
+      // coefficient in assemble()). On the lattice this is mu A / d for the first layer.
+      w.grad = Vec3::Zero();
+      w.visc = Eigen::Matrix3d::Zero();
+      if (d < wall_range) {
+        const double d_eff = std::max(d, 0.25 * h_);
+        for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+          const Vec3 q = x_[i] + site_offset_[o];
+          Vec3 nq;
+          const double sd = signed_distance(c, q, &nq);
+          double slope = 0.0;
+          const double occ = occupancy(sd, h_, &slope);
+          if (occ <= 0.0) continue;
+          density_[i] += occ * site_w_[o];
+          second_moment_[i] += occ * site_wv_[o] * site_r2_[o];
+          w.grad += (slope * site_w_[o] / n0_) * nq;
+          const Vec3 u = site_offset_[o] / std::sqrt(site_r2_[o]);
+          w.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
+        }
+      }
+      wall_g_[i] += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
       // is set to what brings the particle exactly to the contact distance, or to its current
       // normal velocity if that is slower (no pull toward the wall). Penetrating particles are
@@ -577,25 +606,37 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
 void Nucleus::assemble(double dt) {
   const std::size_t n = x_.size();
   const double R = radius_;
+  const double Rd = density_radius_;
   // Neighbour sums: density (kernel units) and second moment.
   for (std::size_t i = 0; i < n; ++i) density_[i] += 1.0;  // self
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double r = pair_r_[p];
-    const double w = kernel(r, R);
+    const double w = kernel(r, Rd);
     density_[i] += w;
     density_[j] += w;
-    second_moment_[i] += r * r;
-    second_moment_[j] += r * r;
-    pair_g_[p] = kernel_slope(r, R) / n0_;
+    const double wv = viscous_weight(r, R);
+    second_moment_[i] += wv * r * r;
+    second_moment_[j] += wv * r * r;
+    pair_g_[p] = kernel_slope(r, Rd) / n0_;
+    pair_visc_[p] = wv;
   }
-  // Viscous coefficients c_ij = 30 mu V / S (see the file comment), S the pair's mean second
-  // moment, floored at 0.6 s0 so a sparse neighbourhood (free surface, a few loose particles)
-  // does not get an unbounded coefficient.
+  // Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth moment
+  // sum w r_x^2 r_z^2 / r^2 of the neighbourhood: the stress of the pair operator under a
+  // shear rate gamma is gamma T c / (2 V w), so this gives tau = mu gamma (see the file comment).
+  // T is the rest lattice's t0 scaled by the particle's own weighted second moment S / s0 (for
+  // isotropic directions T = S / 15), so a disordered or compressed neighbourhood is
+  // normalised by what it actually holds. S is floored at 0.6 s0 so a sparse neighbourhood
+  // (free surface, loose particles) does not get an unbounded coefficient.
+  for (std::size_t i = 0; i < n; ++i)
+    visc_coef_[i] = 2.0 * mu_[i] * volume_ * s0_ / (t0_ * std::max(second_moment_[i], 0.6 * s0_));
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const double s = std::max(0.5 * (second_moment_[i] + second_moment_[j]), 0.6 * s0_);
-    pair_visc_[p] = dt * 30.0 * 0.5 * (mu_[i] + mu_[j]) * volume_ / s;
+    pair_visc_[p] *= dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+  }
+  for (std::size_t k = 0; k < wall_count_; ++k) {
+    const WallHit& w = walls_[k];
+    wall_c_[w.particle] += (dt * visc_coef_[w.particle]) * w.visc;
   }
   // Pressure constraint C_i and which particles carry it (compression only, with a 1 % margin
   // so a particle about to be compressed is already implicit).
@@ -640,8 +681,8 @@ void Nucleus::assemble(double dt) {
   std::fill(s_.begin(), s_.end(), 0.0);
   for (std::size_t k = 0; k < wall_count_; ++k) {
     const WallHit& w = walls_[k];
-    rhs_[w.particle] += dt * w.c * w.v_wall;
-    s_[w.particle] += w.gw * w.normal.dot(w.v_wall);
+    rhs_[w.particle] += (dt * visc_coef_[w.particle]) * (w.visc * w.v_wall);
+    s_[w.particle] += w.grad.dot(w.v_wall);
   }
   for (std::size_t i = 0; i < n; ++i) {
     s_[i] *= press_coef_[i];
@@ -657,7 +698,7 @@ void Nucleus::assemble(double dt) {
   // Block-Jacobi preconditioner: the 3x3 diagonal blocks of the system matrix.
   // grad_i C_i = -sum_j g_ij n_ij + wall_g_i, accumulated in q_ as scratch.
   for (std::size_t i = 0; i < n; ++i) {
-    diag_inv_[i] = (mass_[i] + wall_c_[i]) * Eigen::Matrix3d::Identity();
+    diag_inv_[i] = mass_[i] * Eigen::Matrix3d::Identity() + wall_c_[i];
     q_[i] = wall_g_[i];
   }
   for (std::size_t p = 0; p < pairs_; ++p) {
@@ -690,7 +731,7 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
   const std::size_t n = x_.size();
   auto& s = s_;
   for (std::size_t i = 0; i < n; ++i) {
-    y[i] = (mass_[i] + wall_c_[i]) * x[i];
+    y[i] = mass_[i] * x[i] + wall_c_[i] * x[i];
     s[i] = wall_g_[i].dot(x[i]);
   }
   // Bonds: dt^2 k n n^T on the relative velocity.
@@ -845,7 +886,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
   for (std::size_t i = 0; i < n; ++i) s_[i] = wall_g_[i].dot(v_[i]);
   for (std::size_t k = 0; k < wall_count_; ++k) {
     const WallHit& w = walls_[k];
-    s_[w.particle] -= w.gw * w.normal.dot(w.v_wall);
+    s_[w.particle] -= w.grad.dot(w.v_wall);
   }
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
@@ -905,13 +946,16 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
       BodyReaction& r = reactions[c.body];
       // Force on the body = minus the force on the particle.
       Vec3 f = -share[h - k] * w.normal;                 // contact
-      f += w.c * (v_[i] - w.v_wall);                     // no-slip drag
-      f += volume_ * pressure_[i] * w.gw * w.normal;     // wall pressure (gw <= 0: pushes in)
+      const Eigen::Matrix3d C = visc_coef_[i] * w.visc;
+      f += C * (v_[i] - w.v_wall);                       // no-slip drag
+      f += volume_ * pressure_[i] * w.grad;              // wall pressure (grad points inward)
       r.force_N += f;
+      body_force_[i] += f;
       const Vec3 arm = w.point - r.reference_point;
       r.torque_Nm += arm.cross(f);
-      r.drag_Ns_m += w.c;
-      r.rot_drag_Nms += w.c * arm.squaredNorm();
+      // Trace: an upper bound of the largest eigenvalue of the (PSD) coupling tensor.
+      r.drag_Ns_m += C.trace();
+      r.rot_drag_Nms += C.trace() * arm.squaredNorm();
     }
     k = end;
   }
@@ -1001,6 +1045,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
             BodyReaction& r = reactions[mc.body];
             const Vec3 f = mass_[i] * vn / dt * nw;  // minus the particle's momentum change rate
             r.force_N += f;
+            body_force_[i] += f;
             r.torque_Nm += (x_[i] - r.reference_point).cross(f);
           }
         }

@@ -29,9 +29,12 @@ struct NumericalReport {
 /// Solver options that are not part of a scene file (tests, verification and benchmarks set
 /// them). Defaults are what the World uses.
 struct NucleusOptions {
-  /// Interaction radius in units of the spacing h: viscosity and pressure act between particles
-  /// closer than this. 1.5 takes the 18 nearest lattice neighbours (6 at h, 12 at sqrt(2)h).
-  double neighbor_radius_factor = 1.5;
+  /// Interaction radius in units of the spacing h: viscosity acts between particles closer
+  /// than this (32 lattice neighbours at 2.1; see viscous_weight in nucleus.cpp).
+  double neighbor_radius_factor = 2.1;
+  /// Support of the density kernel (pressure), in units of h; at most the interaction radius.
+  /// 1.5 reaches the 18 nearest lattice neighbours.
+  double density_radius_factor = 1.5;
   /// Particles are kept this far (in units of h) from solid surfaces: half a spacing, so a
   /// lattice touching a wall fills the space up to it.
   double contact_radius_factor = 0.5;
@@ -98,6 +101,8 @@ class Nucleus {
   std::span<const double> masses() const;        ///< N, kg
   std::span<Vec3> external_forces();             ///< N, N; added every step, caller-owned values
   std::span<const double> pressures() const;     ///< N, Pa, at the end of the last step
+  /// N, N: force each particle exerted on the moving bodies in the last step.
+  std::span<const Vec3> body_forces() const;
   std::span<const std::uint8_t> bond_alive() const;  ///< bonds at build, 1 while intact
   std::span<const std::int32_t> bond_particles() const;  ///< 2 per bond: i, j
   /// Velocity of a fixed (kinematic) particle; it moves with it. Ignored for free particles.
@@ -133,7 +138,13 @@ class Nucleus {
   double radius_ = 1.5e-3;   // interaction radius R, m
   double contact_ = 0.5e-3;  // contact distance from surfaces, m
   double n0_ = 1.0;          // rest number density sum (kernel units) of the full lattice
-  double s0_ = 1.0;          // rest second moment sum r^2 of the full lattice, m^2
+  double s0_ = 1.0;          // rest weighted second moment sum w r^2 of the full lattice, m^2
+  double t0_ = 1.0;          // rest weighted fourth moment sum w r_x^2 r_z^2 / r^2, m^2
+  double density_radius_ = 1.5e-3;  // density kernel support, m
+  std::vector<Vec3> site_offset_;  // lattice neighbour offsets within R, m
+  std::vector<double> site_w_;     // their kernel weights
+  std::vector<double> site_r2_;    // their squared lengths, m^2
+  std::vector<double> site_wv_;    // their viscous weights
 
   // Particles (N each).
   std::vector<Vec3> x_;          // positions, m
@@ -179,7 +190,9 @@ class Nucleus {
   std::vector<double> constraint_;     // C_i = density/n0 - 1
   std::vector<double> press_coef_;     // dt^2 kappa V if pressure active, else 0
   std::vector<double> pressure_;       // Pa, end of step
-  std::vector<double> wall_c_;         // dt * sum c_w
+  std::vector<Vec3> body_force_;       // N, force on moving bodies by particle, last step
+  std::vector<Eigen::Matrix3d> wall_c_;  // dt * no-slip coupling tensor, N s/m * s
+  std::vector<double> visc_coef_;      // 2 mu V s0 / (t0 S_i): viscous coefficient, N s/m
   std::vector<Vec3> wall_g_;           // gradient of the wall density term / n0, 1/m
   std::vector<Vec3> rhs_;
   std::vector<Eigen::Matrix3d> diag_inv_;
@@ -192,8 +205,8 @@ class Nucleus {
   struct WallHit {
     std::int32_t particle;
     std::int32_t collider;  // index into moving (>= 0) or -1 - index into statics
-    double c;               // no-slip coupling mu A / d, N s/m
-    double gw;              // d(wall density)/dd / n0, 1/m (<= 0)
+    Vec3 grad;              // gradient of the solid's density share / n0, 1/m
+    Eigen::Matrix3d visc;   // no-slip coupling tensor in units of the viscous coefficient
     Vec3 normal;            // outward surface normal
     Vec3 v_wall;            // surface velocity, m/s
     Vec3 point;             // surface point, m

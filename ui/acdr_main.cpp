@@ -5,7 +5,10 @@
 
 #include "ui/commands/make_trajectory_command.hpp"
 #include "ui/commands/render_command.hpp"
+#include "ui/commands/report_command.hpp"
+#include "ui/commands/rescore_command.hpp"
 #include "ui/commands/run_command.hpp"
+#include "ui/commands/validate_command.hpp"
 
 
 int main(int argc, char** argv) {
@@ -29,6 +32,22 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--headless", run.headless, "No window (the only mode in this build)");
   run_cmd->callback([&] { code = acdr::run_run(run, std::cout, std::cerr); });
 
+  // acdr validate
+  std::vector<std::string> validate_files;
+  auto* validate_cmd = app.add_subcommand("validate", "Check scenario files");
+  validate_cmd->add_option("files", validate_files, "Scenario files")->required();
+  validate_cmd->callback([&] { code = acdr::run_validate(validate_files, std::cout); });
+
+  // acdr report
+  acdr::ReportOptions report;
+  auto* report_cmd = app.add_subcommand("report", "Attempts and progress from the database");
+  report_cmd->add_option("--db", report.db_path, "Database file");
+  report_cmd->add_option("--trainee", report.trainee, "Only this trainee");
+  report_cmd->add_option("--module", report.module, "Only this module");
+  report_cmd->add_option("--format", report.format, "table, csv, json or xapi")
+      ->check(CLI::IsMember({"table", "csv", "json", "xapi"}));
+  report_cmd->callback([&] { code = acdr::run_report(report, std::cout, std::cerr); });
+
   // acdr render
   acdr::RenderOptions render;
   auto* render_cmd = app.add_subcommand("render", "Offscreen picture of a scenario's scene");
@@ -37,6 +56,17 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--width", render.width, "Width in pixels");
   render_cmd->add_option("--height", render.height, "Height in pixels");
   render_cmd->callback([&] { code = acdr::run_render(render, std::cout, std::cerr); });
+
+  // acdr rescore
+  acdr::RescoreOptions rescore;
+  auto* rescore_cmd =
+      app.add_subcommand("rescore", "Re-score stored attempts from their recordings");
+  rescore_cmd->add_option("--db", rescore.db, "Database file");
+  rescore_cmd->add_option("--trainee", rescore.trainee, "Only this trainee's attempts");
+  rescore_cmd->add_option("--module", rescore.module, "Only attempts at this module");
+  rescore_cmd->add_option("--attempt", rescore.attempt, "Only this attempt id");
+  rescore_cmd->add_flag("--dry-run", rescore.dry_run, "Compute and print, store nothing");
+  rescore_cmd->callback([&] { code = acdr::run_rescore(rescore, std::cout, std::cerr); });
 
   // acdr make-trajectory
   std::string waypoints, trajectory_out;

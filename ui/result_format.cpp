@@ -1,6 +1,7 @@
 // Result formatting.
 #include "ui/result_format.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "engine/state_hash.hpp"
@@ -20,6 +21,25 @@ nlohmann::json result_json(const ResultContext& c) {
   j["wall_s"] = c.run.wall_s;
   j["realtime_factor"] = c.run.wall_s > 0 ? c.world.time_s() / c.run.wall_s : 0.0;
   j["state_hash"] = hash_hex(c.run.state_hash);
+  // Solver figures: how hard the step worked (mean over the attempt).
+  double iterations = 0, active = 0;
+  int max_iterations = 0;
+  for (const Frame& f : c.run.record.frames) {
+    iterations += f.solver_iterations;
+    active += f.active_particles;
+    max_iterations = std::max(max_iterations, static_cast<int>(f.solver_iterations));
+  }
+  const double frames = std::max<double>(1.0, static_cast<double>(c.run.record.frames.size()));
+  const StageTimes& times = c.world.stage_times();
+  nlohmann::json stages = nlohmann::json::object();
+  for (int s = 0; s < static_cast<int>(StepStage::kCount); ++s)
+    stages[step_stage_name(static_cast<StepStage>(s))] =
+        times.steps > 0 ? 1e3 * times.seconds[s] / static_cast<double>(times.steps) : 0.0;
+  j["solver"] = {{"mean_iterations", iterations / frames},
+                 {"max_iterations", max_iterations},
+                 {"mean_active_particles", active / frames},
+                 {"particles", c.world.nucleus() ? c.world.nucleus()->particle_count() : 0},
+                 {"stage_ms_per_step", stages}};
   nlohmann::json metrics = nlohmann::json::object();
   for (const auto& [name, value] : c.run.metrics.values) metrics[name] = value;
   j["metrics"] = metrics;

@@ -1,6 +1,8 @@
 // World -> RenderScene.
 #include "ui/scene_snapshot.hpp"
 
+#include <algorithm>
+
 #include "ui/mesh_primitives.hpp"
 #include "ui/render_camera.hpp"
 
@@ -41,6 +43,30 @@ void add_collider(RenderScene& scene, const Collider& c, const Eigen::Vector4f& 
   scene.meshes.push_back(std::move(mesh));
 }
 
+/// Frames the work area (static solids, particles, the instrument's working end) rather than
+/// the whole scene, whose long shaft would make the disc space small in the picture.
+RenderCamera frame_work_area(const World& world, const RenderScene& scene, float aspect) {
+  Eigen::AlignedBox3d box;
+  for (const Collider& c : world.static_colliders()) {
+    if (c.kind != ColliderKind::kBox) continue;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 local((corner & 1 ? 1 : -1) * c.half_extents_m.x(),
+                       (corner & 2 ? 1 : -1) * c.half_extents_m.y(),
+                       (corner & 4 ? 1 : -1) * c.half_extents_m.z());
+      box.extend(c.pose.apply(local));
+    }
+  }
+  for (const auto& p : scene.particles.positions) box.extend(p.cast<double>());
+  if (const InstrumentGeometry* instrument = world.instrument()) {
+    const Pose grip = world.last_frame().instrument;
+    const double reach = 0.3 * instrument->config().shaft_length_m;
+    box.extend(grip.apply(instrument->working_point()));
+    box.extend(grip.apply(instrument->working_point() + Vec3(0, 0, reach)));
+  }
+  if (box.isEmpty()) return frame_scene(scene, aspect);
+  return frame_bounds(box.min().cast<float>(), box.max().cast<float>(), aspect);
+}
+
 }  // namespace
 
 RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& style) {
@@ -71,7 +97,7 @@ RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& s
   // Translucent meshes last (the renderer sorts them back to front).
   std::stable_partition(scene.meshes.begin(), scene.meshes.end(),
                         [](const RenderMesh& m) { return m.rgba.w() >= 1.0f; });
-  scene.camera = frame_scene(scene, aspect);
+  scene.camera = frame_work_area(world, scene, aspect);
   return scene;
 }
 
