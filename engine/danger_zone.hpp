@@ -47,6 +47,8 @@ struct DangerZone {
   Vec3 region_min_m = Vec3::Zero();
   Vec3 region_max_m = Vec3::Zero();
 
+  int bone = -1;  ///< kSdfBand declared in a scenario: 0 C4, 1 C5 (the World then sets `sdf`)
+
   double warning_distance_m = 2.0e-3;  ///< closer than this: a warning
   double force_limit_N = 1.0;          ///< instrument force allowed near the zone
   bool never_event = false;            ///< entering fails the attempt (artery, root, cord)

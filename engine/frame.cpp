@@ -11,6 +11,10 @@ const char* event_kind_name(EventKind kind) {
     case EventKind::kInputRejected: return "input_rejected";
     case EventKind::kForceClamped: return "force_clamped";
     case EventKind::kAttemptEnd: return "attempt_end";
+    case EventKind::kZoneWarning: return "zone_warning";
+    case EventKind::kZoneEntry: return "zone_entry";
+    case EventKind::kNeverEvent: return "never_event";
+    case EventKind::kZoneForce: return "zone_force";
   }
   return "unknown";
 }

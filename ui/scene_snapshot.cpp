@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include <cmath>
+
 #include "ui/mesh_primitives.hpp"
 #include "ui/render_camera.hpp"
 
@@ -38,6 +40,8 @@ void add_collider(RenderScene& scene, const Collider& c, const Eigen::Vector4f& 
                             static_cast<float>(c.thickness_m), rgba);
       break;
     }
+    case ColliderKind::kSdfGrid:
+      return;  // bone: drawn from its triangle meshes (add_anatomy)
   }
   mesh.specular = specular;
   scene.meshes.push_back(std::move(mesh));
@@ -66,6 +70,48 @@ RenderCamera frame_work_area(const World& world, const RenderScene& scene, float
   if (box.isEmpty()) return frame_scene(scene, aspect);
   return frame_bounds(box.min().cast<float>(), box.max().cast<float>(), aspect);
 }
+
+// --- anatomy (issue 4) ---
+/// The vertebrae as opaque bone and the danger zones as translucent solids.
+void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const SceneStyle& style) {
+  for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5}) {
+    const TriangleMesh& bone = anatomy.vertebra(level);
+    RenderMesh mesh;
+    mesh.vertices.reserve(bone.vertices.size());
+    for (const Vec3& v : bone.vertices) mesh.vertices.push_back(v.cast<float>());
+    mesh.indices.reserve(3 * bone.triangles.size());
+    for (const auto& t : bone.triangles) mesh.indices.insert(mesh.indices.end(), t.begin(), t.end());
+    mesh.rgba = style.bone;
+    mesh.specular = 0.15f;
+    mesh.geometry_id = bone.content_hash() | 1u;  // static: uploaded once
+    scene.meshes.push_back(std::move(mesh));
+  }
+  for (const DangerZone& z : anatomy.zones()) {
+    const std::string& n = z.name;
+    const Eigen::Vector4f rgba = n.find("artery") != std::string::npos ? style.artery
+                                 : n.find("root") != std::string::npos ? style.nerve
+                                 : n.find("cord") != std::string::npos ? style.cord
+                                                                       : style.zone;
+    RenderMesh mesh;
+    switch (z.shape) {
+      case ZoneShape::kSphere:
+        mesh = make_sphere(z.a_m.cast<float>(), static_cast<float>(z.radius_m), rgba);
+        break;
+      case ZoneShape::kCapsule:
+        mesh = make_capsule(z.a_m.cast<float>(), z.b_m.cast<float>(), static_cast<float>(z.radius_m), rgba);
+        break;
+      case ZoneShape::kBox:
+        mesh = make_oriented_box(z.half_extents_m.cast<float>(),
+                                 to_affine(Pose{z.a_m, z.orientation}), rgba);
+        break;
+      case ZoneShape::kSdfBand:
+        continue;  // endplates: the bone itself shows them
+    }
+    mesh.specular = 0.1f;
+    scene.meshes.push_back(std::move(mesh));
+  }
+}
+// --- end anatomy ---
 
 }  // namespace
 
