@@ -140,10 +140,22 @@ RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& s
                                                           : style.annulus);
     }
   }
+  if (const Anatomy* anatomy = world.anatomy()) add_anatomy(scene, *anatomy, style);  // issue 4
   // Translucent meshes last (the renderer sorts them back to front).
   std::stable_partition(scene.meshes.begin(), scene.meshes.end(),
                         [](const RenderMesh& m) { return m.rgba.w() >= 1.0f; });
   scene.camera = frame_work_area(world, scene, aspect);
+  if (const Anatomy* anatomy = world.anatomy()) {
+    // --- anatomy (issue 4): the surgeon's view, from anterior (+z, up), a little to the left
+    // and caudal, framing the disc space and the foramina; the spine runs up the image.
+    const SegmentLandmarks& l = anatomy->landmarks();
+    const float reach = static_cast<float>(std::abs(l.foramen_transversarium_m[0].x()) + 6e-3);
+    const Eigen::Vector3f lo(-reach, -14e-3f, static_cast<float>(l.body_back_z_m) - 6e-3f);
+    const Eigen::Vector3f hi(reach, 14e-3f, static_cast<float>(l.body_front_z_m) + 4e-3f);
+    scene.camera = frame_bounds(lo, hi, aspect, Eigen::Vector3f(0.4f, -0.2f, 1.0f));
+    scene.camera.up = Eigen::Vector3f(0.0f, 1.0f, 0.0f);
+    scene.camera.far_m = std::max(scene.camera.far_m, 0.5f);
+  }
   return scene;
 }
 
