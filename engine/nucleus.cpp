@@ -138,6 +138,7 @@ Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
       for (int j = 0; j < n.y(); ++j)
         for (int i = 0; i < n.x(); ++i) {
           const Vec3 p = block.min_m + h_ * Vec3(i + 0.5, j + 0.5, k + 0.5);
+          if (!block.contains(p)) continue;  // anatomy (issue 4): cylinder, ring, cutout
           bool inside = false;
           for (const auto& c : static_colliders)
             if (signed_distance(c, p, nullptr) < 0.5 * contact) inside = true;
