@@ -48,7 +48,7 @@ class RigidWorld {
   void place_instrument(const Pose& grip);
 
   /// Adds a static closed triangle mesh (bone, world frame) as a Bullet BVH triangle mesh with
-  /// a 0.1 mm margin. The mesh must outlive this RigidWorld (Bullet reads its arrays).
+  /// a 0.1 mm margin (built in millimetres, see rigid_world.cpp). The mesh is copied.
   /// (anatomy, issue 4)
   void add_static_mesh(const TriangleMesh& mesh);
 
