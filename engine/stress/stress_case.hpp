@@ -37,7 +37,9 @@ struct StressResult {
   /// Mean kinetic energy over the first and the second half of the hold's second half, J.
   double hold_kinetic_early_J = 0.0;
   double hold_kinetic_late_J = 0.0;
-  /// Kinetic energy grew with nothing driven: late mean > 1.5 x early mean + 1e-12 J.
+  /// Mean mechanical energy of the hold's last quarter minus that of the quarter before, J.
+  double hold_energy_trend_J = 0.0;
+  /// Energy grew with nothing driven: trend > 1 % of the early mean kinetic energy + 1e-12 J.
   bool energy_grew = false;
   int tunnelled = 0;                   ///< particles whose path crossed a wall (pass: 0)
   /// Particles found deeper than h/4 inside the instrument after a step (not a failure: the
