@@ -34,7 +34,7 @@ struct NucleusOptions {
   double neighbor_radius_factor = 2.1;
   /// Support of the density kernel (pressure), in units of h; at most the interaction radius.
   /// 1.5 reaches the 18 nearest lattice neighbours.
-  double density_radius_factor = 1.5;
+  double density_radius_factor = 2.0;
   /// Particles are kept this far (in units of h) from solid surfaces: half a spacing, so a
   /// lattice touching a wall fills the space up to it.
   double contact_radius_factor = 0.5;

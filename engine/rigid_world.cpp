@@ -55,6 +55,8 @@ struct RigidWorld::Impl {
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &collision_config};
 
+  // Bone mesh arrays (issue 4) before the shapes that read them, so they are destroyed after.
+  std::vector<std::unique_ptr<btTriangleIndexVertexArray>> mesh_arrays;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> statics;
   std::unique_ptr<btCompoundShape> instrument_shape;
@@ -200,6 +202,22 @@ void RigidWorld::place_instrument(const Pose& grip) {
   body->setAngularVelocity(btVector3(0, 0, 0));
   body->clearForces();
 }
+
+// --- anatomy (issue 4) ---
+void RigidWorld::add_static_mesh(const TriangleMesh& mesh) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(btScalar), "Bullet must be the double-precision build");
+  // Bullet indexes the engine's own arrays: 3 int indices and 3 doubles per record.
+  auto array = std::make_unique<btTriangleIndexVertexArray>(
+      static_cast<int>(mesh.triangles.size()),
+      reinterpret_cast<int*>(const_cast<std::uint32_t*>(mesh.triangles.data()->data())),
+      static_cast<int>(3 * sizeof(std::uint32_t)), static_cast<int>(mesh.vertices.size()),
+      const_cast<btScalar*>(mesh.vertices.data()->data()), static_cast<int>(sizeof(Vec3)));
+  auto shape = std::make_unique<btBvhTriangleMeshShape>(array.get(), true);
+  shape->setMargin(kMargin);
+  impl_->add_static(std::move(shape), btTransform::getIdentity());
+  impl_->mesh_arrays.push_back(std::move(array));
+}
+// --- end anatomy ---
 
 RigidContact RigidWorld::step(double dt, const Vec3& force_N, const Vec3& torque_Nm) {
   RigidContact contact;
