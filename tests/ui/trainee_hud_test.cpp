@@ -117,6 +117,57 @@ TEST(TraineeHud, FrameOffscreenShowsInstrumentMaterialHudAndWarningColours) {
   EXPECT_GT(im.fraction(is_amber), 0.00005);
 }
 
+// The anatomical module: a danger zone the instrument comes near turns its warning colour in
+// the 3D view, and the HUD names it.
+TEST(TraineeHud, ZoneTurnsItsWarningColourAndTheHudNamesIt) {
+  LoadResult loaded =
+      load_scenario_file(std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/02_c4c5_healthy.json");
+  ASSERT_TRUE(loaded.ok()) << to_string(loaded.errors);
+  World world(loaded.model->world);
+  ASSERT_NE(world.anatomy(), nullptr);
+  const auto& zones = world.anatomy()->zones();
+  std::size_t artery = zones.size();
+  for (std::size_t i = 0; i < zones.size(); ++i)
+    if (zones[i].name.find("artery") != std::string::npos) artery = std::min(artery, i);
+  ASSERT_LT(artery, zones.size());
+
+  LiveView view;
+  capture_world_state(world, view.state);
+  Frame& f = view.state.frame;
+  ASSERT_GT(f.zone_count, static_cast<int>(artery));
+  f.zones[artery].warning = true;
+  f.zones[artery].distance_m = 1.5e-3f;
+
+  const SceneStyle style;
+  const int w = 1000, h = 640;
+  const RenderScene scene = snapshot_state(world, view.state, float(w) / h, style);
+  int warned = 0;
+  for (const RenderMesh& m : scene.meshes) warned += m.rgba == style.zone_warning;
+  EXPECT_EQ(warned, 1);
+
+  const HudModel hud = make_hud_model(*loaded.model, world.summary(), view, HapticLoopStats{},
+                                      "mouse");
+  ASSERT_FALSE(hud.alerts.empty());
+  EXPECT_EQ(hud.alerts[0].level, AlertLevel::kWarning);
+  EXPECT_NE(hud.alerts[0].text.find(zones[artery].name), std::string::npos) << hud.alerts[0].text;
+  EXPECT_NE(hud.alerts[0].text.find("1.5 mm"), std::string::npos) << hud.alerts[0].text;
+
+  std::string error;
+  auto ui = ImGuiOffscreen::create(w, h, &error);
+  ASSERT_TRUE(ui) << error;
+  Image im{w, h, {}};
+  ASSERT_TRUE(ui->render(&scene, [&] { draw_trainee_hud(hud, ImVec2(w, h), nullptr); }, &im.rgb,
+                         &error));
+  // The warned artery is amber on screen where its centre projects; the instrument is steel.
+  const Vec3 mid = 0.5 * (zones[artery].a_m + zones[artery].b_m);
+  const auto px = project_to_pixel(scene.camera, w, h, mid.cast<float>());
+  ASSERT_TRUE(px);
+  EXPECT_GT(im.fraction_in_window(*px, 3, [](const Rgb& c) {
+    return c.r > 180 && c.g > 90 && c.g < 200 && c.b < 90;
+  }), 0.4) << "artery at " << px->transpose();
+  EXPECT_GT(im.fraction(test::is_steel), 0.005);
+}
+
 AttemptRun failing_run() {
   AttemptRun run;
   run.end = AttemptEnd::kTimeLimit;
@@ -152,7 +203,7 @@ TEST(TraineeHud, ScoreScreenSaysWhatToImprove) {
   ASSERT_TRUE(ui) << error;
   Image im{w, h, {}};
   ASSERT_TRUE(ui->render(nullptr, [&] { draw_score_screen(s, ImVec2(w, h)); }, &im.rgb, &error));
-  EXPECT_GT(im.fraction(is_alert_red), 0.001);  // NOT PASSED, FAILED
+  EXPECT_GT(im.fraction(is_alert_red), 0.0005);  // NOT PASSED, FAILED
 }
 
 }  // namespace
