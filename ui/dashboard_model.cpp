@@ -147,6 +147,13 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
     collect_bands(r.frames, [&](const Frame& f) { return f.bending_moment_Nm > yield; },
                   d->overload_yield);
   collect_bands(r.frames, [](const Frame& f) { return !f.input_valid; }, d->input_invalid);
+  auto any_zone = [](const Frame& f, bool inside) {
+    for (int z = 0; z < f.zone_count && z < static_cast<int>(f.zones.size()); ++z)
+      if (inside ? f.zones[z].inside : f.zones[z].warning) return true;
+    return false;
+  };
+  collect_bands(r.frames, [&](const Frame& f) { return any_zone(f, false); }, d->zone_warning);
+  collect_bands(r.frames, [&](const Frame& f) { return any_zone(f, true); }, d->zone_inside);
   d->duration_s = n ? r.frames.back().t_s : 0.0;
   return d;
 }

@@ -67,6 +67,8 @@ struct AttemptDrillDown {
   std::vector<TimeBand> overload_warning;  ///< moment above the warning fraction of yield
   std::vector<TimeBand> overload_yield;    ///< moment above yield
   std::vector<TimeBand> input_invalid;     ///< device input rejected or lost
+  std::vector<TimeBand> zone_warning;      ///< within a danger zone's warning distance
+  std::vector<TimeBand> zone_inside;       ///< inside a danger zone
   double duration_s = 0.0;
 
   /// Index of the last frame at or before time t (0 when none).

@@ -365,6 +365,8 @@ void draw_time_plots(const AttemptDrillDown& d, DashboardSelection& sel) {
   const float cursor = static_cast<float>(sel.replay_t_s);
   // Force over time with overload (amber, red) and rejected-input (grey) bands.
   std::vector<PlotBand> bands = bands_of(d.input_invalid, IM_COL32(150, 150, 150, 50));
+  for (const PlotBand& b : bands_of(d.zone_warning, IM_COL32(242, 115, 38, 45))) bands.push_back(b);
+  for (const PlotBand& b : bands_of(d.zone_inside, IM_COL32(240, 40, 150, 70))) bands.push_back(b);
   for (const PlotBand& b : bands_of(d.overload_warning, u32(ui_colors::kWarning, 0.25f)))
     bands.push_back(b);
   for (const PlotBand& b : bands_of(d.overload_yield, u32(ui_colors::kDanger, 0.35f)))
@@ -386,7 +388,8 @@ void draw_time_plots(const AttemptDrillDown& d, DashboardSelection& sel) {
                "device max " + fmt("%.1f N", r.summary.device_max_force_N)}};
   PlotInteraction pi = draw_plot(force, fs, limit, bands);
   ImGui::TextColored(ui_colors::kMuted,
-                     "Bands: amber overload warning, red above yield, grey input rejected/lost.");
+                     "Bands: amber overload warning, red above yield, orange near a danger zone, "
+                     "magenta inside one, grey input rejected/lost.");
   if (pi.clicked) sel.replay_t_s = pi.x_at_mouse;
 
   // Shaft bending moment against its warning and yield.

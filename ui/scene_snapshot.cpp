@@ -74,7 +74,8 @@ RenderCamera frame_work_area(const World& world, const Frame& frame, const Rende
 
 // --- anatomy (issue 4) ---
 /// The vertebrae as opaque bone and the danger zones as translucent solids.
-void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const SceneStyle& style) {
+void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
+                 const SceneStyle& style) {
   for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5}) {
     const TriangleMesh& bone = anatomy.vertebra(level);
     RenderMesh mesh;
@@ -87,12 +88,22 @@ void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const SceneStyle& s
     mesh.geometry_id = bone.content_hash() | 1u;  // static: uploaded once
     scene.meshes.push_back(std::move(mesh));
   }
-  for (const DangerZone& z : anatomy.zones()) {
+  const auto& zones = anatomy.zones();
+  for (std::size_t zi = 0; zi < zones.size(); ++zi) {
+    const DangerZone& z = zones[zi];
     const std::string& n = z.name;
-    const Eigen::Vector4f rgba = n.find("artery") != std::string::npos ? style.artery
-                                 : n.find("root") != std::string::npos ? style.nerve
-                                 : n.find("cord") != std::string::npos ? style.cord
-                                                                       : style.zone;
+    Eigen::Vector4f rgba = n.find("artery") != std::string::npos ? style.artery
+                           : n.find("root") != std::string::npos ? style.nerve
+                           : n.find("cord") != std::string::npos ? style.cord
+                                                                 : style.zone;
+    // Issue 7: a zone turns its warning colour as the instrument comes within its warning
+    // distance, and the danger colour (more opaque) once the instrument is inside it.
+    if (static_cast<int>(zi) < frame.zone_count && zi < frame.zones.size()) {
+      if (frame.zones[zi].inside)
+        rgba = style.zone_inside;
+      else if (frame.zones[zi].warning)
+        rgba = style.zone_warning;
+    }
     RenderMesh mesh;
     switch (z.shape) {
       case ZoneShape::kSphere:
@@ -166,7 +177,8 @@ RenderScene snapshot_state(const World& world, const WorldState& state, float as
                                                                      : style.annulus);
     }
   }
-  if (const Anatomy* anatomy = world.anatomy()) add_anatomy(scene, *anatomy, style);  // issue 4
+  if (const Anatomy* anatomy = world.anatomy())
+    add_anatomy(scene, *anatomy, state.frame, style);  // issue 4
   // Translucent meshes last (the renderer sorts them back to front).
   std::stable_partition(scene.meshes.begin(), scene.meshes.end(),
                         [](const RenderMesh& m) { return m.rgba.w() >= 1.0f; });

@@ -23,6 +23,9 @@ struct SceneStyle {
   Eigen::Vector4f nerve{0.98f, 0.86f, 0.20f, 0.55f};    ///< nerve roots
   Eigen::Vector4f cord{0.35f, 0.55f, 0.95f, 0.30f};     ///< spinal cord / PLL
   Eigen::Vector4f zone{0.95f, 0.35f, 0.80f, 0.35f};     ///< other declared zones
+  /// A zone the instrument is within the warning distance of (issue 7), and one it is inside.
+  Eigen::Vector4f zone_warning{1.00f, 0.62f, 0.05f, 0.60f};
+  Eigen::Vector4f zone_inside{1.00f, 0.05f, 0.05f, 0.80f};
   // --- end anatomy ---
 };
 

@@ -41,8 +41,14 @@ bool store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run, con
   outcome.metrics = run.metrics;
   outcome.score = run.score;
   outcome.duration_s = world.time_s();
-  for (const Event& e : run.record.events)
-    outcome.events.push_back(EventRecord{e.t_s, event_kind_name(e.kind), "", e.value, e.detail});
+  const auto& zones = run.record.summary.zones;
+  for (const Event& e : run.record.events) {
+    // Zone events carry the zone's index; the record keeps its name.
+    const std::string zone = e.zone >= 0 && static_cast<std::size_t>(e.zone) < zones.size()
+                                 ? zones[static_cast<std::size_t>(e.zone)].name
+                                 : std::string();
+    outcome.events.push_back(EventRecord{e.t_s, event_kind_name(e.kind), zone, e.value, e.detail});
+  }
   RecordingData recording;
   recording.format = kRecordingFormat;
   recording.frame_count = static_cast<std::int64_t>(run.record.frames.size());
