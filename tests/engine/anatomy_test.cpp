@@ -143,9 +143,10 @@ TEST_F(AnatomyTest, WorldStepsWithBoneAndZoneSamples) {
   DeviceSample s;
   s.pose = w.instrument_start;
   s.pose.position += Vec3(0, -3 * kMm, -6 * kMm);
+  double peak_contact = 0.0;
   for (int i = 0; i < 300; ++i) {
     s.t_s = world.time_s();
-    world.step(s);
+    peak_contact = std::max(peak_contact, world.step(s).contact_force_N.norm());
   }
   const Frame& f = world.last_frame();
   EXPECT_FALSE(world.failed());
@@ -153,7 +154,7 @@ TEST_F(AnatomyTest, WorldStepsWithBoneAndZoneSamples) {
   // The endplate of C5 is touched or within its warning distance; the arteries are far.
   EXPECT_TRUE(f.zones[6].warning) << f.zones[6].distance_m;
   EXPECT_GT(f.zones[0].distance_m, 5e-3);
-  EXPECT_GT(f.contact_force_N.norm(), 0.01);
+  EXPECT_GT(peak_contact, 0.01);  // Bullet's bone mesh stops the cup
   std::vector<Event> events;
   world.drain_events(events);
   bool warned = false;

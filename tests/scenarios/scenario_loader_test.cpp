@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include "scenarios/content_hash.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"
 
@@ -574,3 +577,72 @@ TEST(ScenarioLoaderErrors, NotAnObjectAndMissingFile) {
 
 }  // namespace
 }  // namespace acdr
+
+// --- anatomy (issue 4) ---
+
+namespace acdr {
+namespace {
+
+std::string healthy_module_text() {
+  return test::read_text(test::source_path("scenarios/modules/02_c4c5_healthy.json"));
+}
+
+TEST(ScenarioLoaderAnatomy, BundledModulesLoadWithAnatomy) {
+  for (const char* m : {"02_c4c5_healthy.json", "03_c4c5_degenerated.json", "04_full_discectomy.json"}) {
+    const LoadResult r = load_scenario_file(test::source_path(std::string("scenarios/modules/") + m));
+    ASSERT_TRUE(r.ok()) << to_string(r.errors);
+    const WorldConfig& w = r.model->world;
+    EXPECT_TRUE(w.anatomy.enabled) << m;
+    EXPECT_TRUE(w.anatomy.generate_zones) << m;
+    ASSERT_EQ(w.nucleus.blocks.size(), 2u) << m;
+    EXPECT_EQ(w.nucleus.blocks[0].shape, BlockShape::kEllipticCylinder);
+    EXPECT_TRUE(w.nucleus.blocks[1].has_cutout);
+    EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
+  }
+}
+
+TEST(ScenarioLoaderAnatomy, BrokenMeshFileIsReportedWithItsPlace) {
+  const std::string dir = test::source_path("tests/scenarios/data/");
+  // A mesh file that does not parse: its own file and line appear in the error.
+  const std::string bad = dir + "bone_broken.obj";
+  {
+    std::ofstream out(bad);
+    out << "v 0 0 0\nv 1 0 0\nv 0 nope 0\nf 1 2 3\n";
+  }
+  const std::string text = replace_once(
+      healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9 },)",
+      R"("morphometry": { "disc_height_mm": 5.9 }, "meshes": { "c4": "bone_broken.obj", "c5": "bone_c5.stl", "units": "mm" },)");
+  const LoadResult r = load_scenario_text(text, dir + "m.json");
+  std::remove(bad.c_str());
+  ASSERT_FALSE(r.ok());
+  const std::string all = to_string(r.errors);
+  EXPECT_NE(all.find("/world/anatomy/meshes"), std::string::npos) << all;
+  EXPECT_NE(all.find("bone_broken.obj:3: vertex coordinate 2 is not a finite number (got 'nope')"),
+            std::string::npos) << all;
+}
+
+TEST(ScenarioLoaderAnatomy, InconsistentMorphometryAndZones) {
+  std::string text = replace_once(healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9 },)",
+                                  R"("morphometry": { "disc_height_mm": 5.9, "c5": { "uncinate_to_foramen_mm": 1.0 } },
+      "zones": { "extra": [ { "name": "x", "shape": "capsule", "a_mm": [0, 0, 0], "radius_mm": 1,
+                              "warning_mm": 1, "force_limit_N": 1, "never_event": true } ] },)");
+  const LoadResult r = load_scenario_text(text, "m.json");
+  ASSERT_FALSE(r.ok());
+  const std::string all = to_string(r.errors);
+  EXPECT_NE(all.find("inconsistent morphometry: c5.uncinate_to_foramen: got 1 mm"), std::string::npos) << all;
+  EXPECT_NE(all.find("/world/anatomy/zones/extra/0"), std::string::npos) << all;  // b missing
+  EXPECT_NE(all.find("b_mm"), std::string::npos) << all;
+}
+
+TEST(ScenarioLoaderAnatomy, ShapedBlocksAreChecked) {
+  const std::string text = replace_once(healthy_module_text(), R"("hole_semi_axes_mm": [3.5, 3.0],)",
+                                        R"("hole_semi_axes_mm": [6.5, 3.0],)");
+  const LoadResult r = load_scenario_text(text, "m.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(to_string(r.errors).find("the hole must fit inside the ellipse"), std::string::npos)
+      << to_string(r.errors);
+}
+
+}  // namespace
+}  // namespace acdr
+// --- end anatomy ---
