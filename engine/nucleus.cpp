@@ -77,33 +77,13 @@ inline double kernel_slope(double r, double R) {
   return -6.0 * r / (R * R) * q * q;
 }
 
-/// What the missing half-space of lattice neighbours beyond a wall contributes to a particle
-/// at distance d from it: density n, its derivative dn/dd, and the second moment sum r^2.
-/// The virtual lattice continues the particle's own layers: planes at distances
-/// d + h/2 + k h behind it, laterally aligned with the particle.
-struct WallSums {
-  double n = 0.0;
-  double dn = 0.0;
-  double s2 = 0.0;
-};
-WallSums wall_sums(double d, double h, double R) {
-  WallSums out;
-  const double dd = std::max(d, 0.0);
-  const int lateral = static_cast<int>(std::floor(R / h));
-  for (int k = 0;; ++k) {
-    const double z = dd + 0.5 * h + k * h;
-    if (z >= R) break;
-    for (int a = -lateral; a <= lateral; ++a)
-      for (int b = -lateral; b <= lateral; ++b) {
-        const double rho2 = (a * a + b * b) * h * h;
-        const double r = std::sqrt(rho2 + z * z);
-        if (r >= R) continue;
-        out.n += kernel(r, R);
-        out.dn += kernel_slope(r, R) * z / r;  // dr/dd = z / r
-        out.s2 += r * r;
-      }
-  }
-  return out;
+/// Smooth occupancy of a lattice site by a solid from its signed distance: 1 a half spacing
+/// inside, 0 a half spacing outside, smoothstep between (zero slope at both ends, so a
+/// particle resting at the contact distance feels no jump in stiffness).
+inline double occupancy(double sd, double h, double* slope) {
+  const double t = std::clamp(0.5 - sd / h, 0.0, 1.0);
+  if (slope) *slope = (t <= 0.0 || t >= 1.0) ? 0.0 : 6.0 * t * (1.0 - t) * (-1.0 / h);
+  return t * t * (3.0 - 2.0 * t);
 }
 
 /// Pose advanced by a constant velocity over dt.
@@ -199,6 +179,9 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   // Rest sums of the full cubic lattice: the normalisations n0 (density) and s0 (viscosity).
   n0_ = 1.0;
   s0_ = 0.0;
+  site_offset_.clear();
+  site_w_.clear();
+  site_r2_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -208,6 +191,9 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         if (r >= radius_) continue;
         n0_ += kernel(r, radius_);
         s0_ += r * r;
+        site_offset_.push_back(h_ * Vec3(a, b, c));
+        site_w_.push_back(kernel(r, radius_));
+        site_r2_.push_back(r * r);
       }
 
   const std::size_t n = setup.positions_m.size();
@@ -271,6 +257,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   constraint_.assign(n, 0.0);
   press_coef_.assign(n, 0.0);
   pressure_.assign(n, 0.0);
+  body_force_.assign(n, Vec3::Zero());
   wall_c_.assign(n, 0.0);
   wall_g_.assign(n, Vec3::Zero());
   rhs_.assign(n, Vec3::Zero());
@@ -302,6 +289,7 @@ const NucleusConfig& Nucleus::config() const { return config_; }
 std::span<const double> Nucleus::masses() const { return mass_; }
 std::span<Vec3> Nucleus::external_forces() { return f_ext_; }
 std::span<const double> Nucleus::pressures() const { return pressure_; }
+std::span<const Vec3> Nucleus::body_forces() const { return body_force_; }
 std::span<const std::uint8_t> Nucleus::bond_alive() const { return bond_alive_; }
 std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_; }
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
@@ -347,6 +335,7 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
     end_pose_[m] = advance(moving[m].pose, moving[m].linear_velocity_m_s,
                            moving[m].angular_velocity_rad_s, dt);
   std::copy(x_.begin(), x_.end(), x_start_.begin());
+  std::fill(body_force_.begin(), body_force_.end(), Vec3::Zero());
 
   wake_and_sleep(moving, dt);
   build_pairs();
@@ -477,7 +466,8 @@ void Nucleus::build_pairs() {
 void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   const std::size_t n = x_.size();
   wall_count_ = 0;
-  const double wall_range = std::max(radius_ - 0.5 * h_, h_);
+  // A lattice site within R of the particle can be inside the solid only if d < R + h/2.
+  const double wall_range = radius_ + 0.5 * h_;
   const double area = h_ * h_;
   const std::size_t n_static = statics_.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -512,12 +502,26 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       w.point = x_[i] - d * normal;
       // No-slip coupling of the first layer: the wall's share of the shear, mu A / d.
       w.c = d < h_ ? mu_[i] * area / std::max(d, 0.5 * contact_) : 0.0;
-      const WallSums sums = wall_sums(d, h_, radius_);
-      w.gw = sums.dn / n0_;
-      density_[i] += sums.n;
-      second_moment_[i] += sums.s2;
+      // The solid fills the lattice sites a particle is missing near it: their density, its
+      // gradient, and their second moment are counted as neighbours (the role of boundary
+      // particles in Akinci et al. 2012), site by site from the signed distance, so edges,
+      // corners and thin shells count what is really solid.
+      w.grad = Vec3::Zero();
+      if (d < wall_range) {
+        for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+          const Vec3 q = x_[i] + site_offset_[o];
+          Vec3 nq;
+          const double sd = signed_distance(c, q, &nq);
+          double slope = 0.0;
+          const double occ = occupancy(sd, h_, &slope);
+          if (occ <= 0.0) continue;
+          density_[i] += occ * site_w_[o];
+          second_moment_[i] += occ * site_r2_[o];
+          w.grad += (slope * site_w_[o] / n0_) * nq;
+        }
+      }
       wall_c_[i] += dt * w.c;
-      wall_g_[i] += w.gw * normal;
+      wall_g_[i] += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
       // is set to what brings the particle exactly to the contact distance, or to its current
       // normal velocity if that is slower (no pull toward the wall). Penetrating particles are
@@ -641,7 +645,7 @@ void Nucleus::assemble(double dt) {
   for (std::size_t k = 0; k < wall_count_; ++k) {
     const WallHit& w = walls_[k];
     rhs_[w.particle] += dt * w.c * w.v_wall;
-    s_[w.particle] += w.gw * w.normal.dot(w.v_wall);
+    s_[w.particle] += w.grad.dot(w.v_wall);
   }
   for (std::size_t i = 0; i < n; ++i) {
     s_[i] *= press_coef_[i];
@@ -845,7 +849,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
   for (std::size_t i = 0; i < n; ++i) s_[i] = wall_g_[i].dot(v_[i]);
   for (std::size_t k = 0; k < wall_count_; ++k) {
     const WallHit& w = walls_[k];
-    s_[w.particle] -= w.gw * w.normal.dot(w.v_wall);
+    s_[w.particle] -= w.grad.dot(w.v_wall);
   }
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
@@ -906,8 +910,9 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
       // Force on the body = minus the force on the particle.
       Vec3 f = -share[h - k] * w.normal;                 // contact
       f += w.c * (v_[i] - w.v_wall);                     // no-slip drag
-      f += volume_ * pressure_[i] * w.gw * w.normal;     // wall pressure (gw <= 0: pushes in)
+      f += volume_ * pressure_[i] * w.grad;              // wall pressure (grad points inward)
       r.force_N += f;
+      body_force_[i] += f;
       const Vec3 arm = w.point - r.reference_point;
       r.torque_Nm += arm.cross(f);
       r.drag_Ns_m += w.c;
@@ -1001,6 +1006,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
             BodyReaction& r = reactions[mc.body];
             const Vec3 f = mass_[i] * vn / dt * nw;  // minus the particle's momentum change rate
             r.force_N += f;
+            body_force_[i] += f;
             r.torque_Nm += (x_[i] - r.reference_point).cross(f);
           }
         }

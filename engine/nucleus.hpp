@@ -98,6 +98,8 @@ class Nucleus {
   std::span<const double> masses() const;        ///< N, kg
   std::span<Vec3> external_forces();             ///< N, N; added every step, caller-owned values
   std::span<const double> pressures() const;     ///< N, Pa, at the end of the last step
+  /// N, N: force each particle exerted on the moving bodies in the last step.
+  std::span<const Vec3> body_forces() const;
   std::span<const std::uint8_t> bond_alive() const;  ///< bonds at build, 1 while intact
   std::span<const std::int32_t> bond_particles() const;  ///< 2 per bond: i, j
   /// Velocity of a fixed (kinematic) particle; it moves with it. Ignored for free particles.
@@ -134,6 +136,9 @@ class Nucleus {
   double contact_ = 0.5e-3;  // contact distance from surfaces, m
   double n0_ = 1.0;          // rest number density sum (kernel units) of the full lattice
   double s0_ = 1.0;          // rest second moment sum r^2 of the full lattice, m^2
+  std::vector<Vec3> site_offset_;  // lattice neighbour offsets within R, m
+  std::vector<double> site_w_;     // their kernel weights
+  std::vector<double> site_r2_;    // their squared lengths, m^2
 
   // Particles (N each).
   std::vector<Vec3> x_;          // positions, m
@@ -179,6 +184,7 @@ class Nucleus {
   std::vector<double> constraint_;     // C_i = density/n0 - 1
   std::vector<double> press_coef_;     // dt^2 kappa V if pressure active, else 0
   std::vector<double> pressure_;       // Pa, end of step
+  std::vector<Vec3> body_force_;       // N, force on moving bodies by particle, last step
   std::vector<double> wall_c_;         // dt * sum c_w
   std::vector<Vec3> wall_g_;           // gradient of the wall density term / n0, 1/m
   std::vector<Vec3> rhs_;
@@ -193,7 +199,7 @@ class Nucleus {
     std::int32_t particle;
     std::int32_t collider;  // index into moving (>= 0) or -1 - index into statics
     double c;               // no-slip coupling mu A / d, N s/m
-    double gw;              // d(wall density)/dd / n0, 1/m (<= 0)
+    Vec3 grad;              // gradient of the solid's density share / n0, 1/m
     Vec3 normal;            // outward surface normal
     Vec3 v_wall;            // surface velocity, m/s
     Vec3 point;             // surface point, m

@@ -20,10 +20,11 @@ struct MaterialConfig {
   double bond_stiffness_N_m = 5.0;  ///< spring stiffness k between bonded particles (Eq. 9)
   double bond_break_m = 0.3e-3;     ///< break stretch delta_max; a bond breaks at k*delta_max (Eq. 10)
   bool counts_as_target = true;     ///< removing it is the goal (nucleus) or a penalty (annulus)
-  /// Bulk modulus of the particle pressure (density constraint), Pa. Not published for NP;
-  /// 20 kPa keeps the hydrostatic compression of a 1 cm layer below 0.5 % and is of the order
-  /// of the NP's measured moduli (5-60 kPa, REFERENCES.md). Scenario-editable.
-  double bulk_modulus_Pa = 2.0e4;
+  /// Bulk modulus of the particle pressure (density constraint), Pa: a penalty that keeps the
+  /// water-rich gel nearly incompressible (hydrostatic compression of a 1 cm layer ~0.2 %).
+  /// Not published for NP; 50 kPa is of the order of its measured moduli (5-60 kPa,
+  /// REFERENCES.md) and keeps the buoyancy error within 1 % (docs/verification.md).
+  double bulk_modulus_Pa = 5.0e4;
 };
 
 /// An axis-aligned region filled with particles on a cubic lattice.
