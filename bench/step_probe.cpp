@@ -1,0 +1,59 @@
+// acdr_step_probe: times the World step on a scenario along a trajectory and prints the
+// figures to compare before/after a solver change (ms per step and per stage, PCG iterations,
+// active particles, force checksum, state hash). A development tool, not a test.
+//   acdr_step_probe SCENARIO TRAJECTORY [duration_s] [spacing_mm] [tolerance] [max_it]
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "bench/scene_run.hpp"
+#include "scenarios/scenario_loader.hpp"
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: %s SCENARIO TRAJECTORY [duration_s] [spacing_mm] [tol] [max_it]\n",
+                 argv[0]);
+    return 2;
+  }
+  const auto loaded = acdr::load_scenario_file(argv[1]);
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "cannot load %s\n", argv[1]);
+    return 1;
+  }
+  std::string error;
+  const auto trajectory = acdr::Trajectory::load_csv(argv[2], &error);
+  if (!trajectory) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  const double duration = argc > 3 ? std::atof(argv[3]) : 0.0;
+  acdr::RunSettings s;
+  if (argc > 4) s.spacing_m = std::atof(argv[4]) * 1e-3;
+  if (argc > 5) s.tolerance = std::atof(argv[5]);
+  if (argc > 6) s.max_iterations = std::atoi(argv[6]);
+  const acdr::WorldConfig config = acdr::apply_settings(loaded.model->world, s);
+  const acdr::RunTrace r = acdr::run_scene(config, *trajectory, duration);
+  double f_sum = 0.0, f_max = 0.0;
+  for (double f : r.force_N) {
+    f_sum += f;
+    if (f > f_max) f_max = f;
+  }
+  std::printf("particles %zu bonds %zu steps %lld sim %.3f s wall %.3f s -> %.4f ms/step "
+              "(%.3fx real time)%s\n",
+              r.particles, r.bonds, static_cast<long long>(r.steps), r.sim_s, r.wall_s,
+              1e3 * r.wall_s / std::max<long long>(1, r.steps), r.sim_s / r.wall_s,
+              r.failed ? " FAILED" : "");
+  std::printf("cpu %.3f s -> %.4f ms/step CPU\n", r.cpu_s,
+              1e3 * r.cpu_s / std::max<long long>(1, r.steps));
+  std::printf("mean iterations %.2f, mean active %.0f, removed %d (%.4f), mean |F| %.6f N, "
+              "peak |F| %.6f N, hash %016llx\n",
+              r.mean_iterations, r.mean_active, r.removed_target, r.removed_fraction,
+              r.force_N.empty() ? 0.0 : f_sum / r.force_N.size(), f_max,
+              static_cast<unsigned long long>(r.state_hash));
+  std::printf("stages ms/step:");
+  for (int k = 0; k < static_cast<int>(acdr::StepStage::kCount); ++k)
+    std::printf(" %s %.4f", acdr::step_stage_name(static_cast<acdr::StepStage>(k)),
+                1e3 * r.stages.seconds[k] / std::max<std::int64_t>(1, r.stages.steps));
+  std::printf("\n");
+  return r.failed ? 1 : 0;
+}
