@@ -83,15 +83,29 @@ DbStatus write_events(Database& db, std::int64_t id, const std::vector<EventReco
   return {};
 }
 
-DbStatus write_recording(Database& db, std::int64_t id, const RecordingData& recording,
-                         bool complete) {
-  if (recording.frame_count < 0) {
+// A recording compressed before its transaction starts: compressing a long attempt takes
+// seconds, and the write lock should be held only for the write.
+struct PackedRecording {
+  const RecordingData* source = nullptr;
+  std::vector<std::uint8_t> data;
+};
+
+DbResult<std::optional<PackedRecording>> pack_recording(const Database& db, std::int64_t id,
+                                                        const RecordingData* recording) {
+  if (recording == nullptr) return std::optional<PackedRecording>();
+  if (recording->frame_count < 0) {
     return DbError{attempt_where(db, id) + "recording frame_count is " +
-                       std::to_string(recording.frame_count) + " (expected >= 0)",
+                       std::to_string(recording->frame_count) + " (expected >= 0)",
                    0};
   }
-  DbResult<std::vector<std::uint8_t>> packed = compress_recording(recording.bytes);
+  DbResult<std::vector<std::uint8_t>> packed = compress_recording(recording->bytes);
   if (!packed) return DbError{attempt_where(db, id) + packed.error().message, 0};
+  return std::optional<PackedRecording>(PackedRecording{recording, std::move(packed.value())});
+}
+
+DbStatus write_recording(Database& db, std::int64_t id, const PackedRecording& packed,
+                         bool complete) {
+  const RecordingData& recording = *packed.source;
   DbResult<Statement> s = db.prepare(
       "INSERT INTO recordings (attempt_id, format, encoding, frame_count, raw_bytes, complete, "
       "data) VALUES (?, ?, 'zlib', ?, ?, ?, ?) "
@@ -101,7 +115,7 @@ DbStatus write_recording(Database& db, std::int64_t id, const RecordingData& rec
   if (!s) return s.error();
   if (DbStatus b = s->bind_all(id, recording.format, recording.frame_count,
                                static_cast<std::int64_t>(recording.bytes.size()), complete,
-                               BlobView(packed.value()));
+                               BlobView(packed.data));
       !b) {
     return b;
   }
@@ -400,12 +414,14 @@ DbResult<std::int64_t> begin_attempt(Database& db, const AttemptStart& start) {
 DbStatus checkpoint_attempt(Database& db, std::int64_t attempt_id,
                             const std::vector<EventRecord>& events,
                             const RecordingData* recording) {
+  DbResult<std::optional<PackedRecording>> packed = pack_recording(db, attempt_id, recording);
+  if (!packed) return packed.error();
   DbResult<Transaction> tx = Transaction::begin(db);
   if (!tx) return tx.error();
   if (DbStatus r = require_running(db, attempt_id, "checkpoint"); !r) return r;
   if (DbStatus w = write_events(db, attempt_id, events); !w) return w;
-  if (recording) {
-    if (DbStatus w = write_recording(db, attempt_id, *recording, false); !w) return w;
+  if (packed.value()) {
+    if (DbStatus w = write_recording(db, attempt_id, *packed.value(), false); !w) return w;
   }
   DbResult<Statement> s = db.prepare("UPDATE attempts SET heartbeat_utc = ? WHERE id = ?");
   if (!s) return s.error();
@@ -424,6 +440,10 @@ DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutc
                    0};
   }
 
+  DbResult<std::optional<PackedRecording>> packed = pack_recording(
+      db, attempt_id, outcome.recording ? &*outcome.recording : nullptr);
+  if (!packed) return packed.error();
+
   // Everything below is one transaction: a crash leaves the attempt running (and later
   // aborted with its last checkpoint), never half-finished.
   DbResult<Transaction> tx = Transaction::begin(db);
@@ -431,8 +451,8 @@ DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutc
   if (DbStatus r = require_running(db, attempt_id, "finish"); !r) return r;
   if (DbStatus w = write_assessment(db, attempt_id, outcome.metrics, outcome.score); !w) return w;
   if (DbStatus w = write_events(db, attempt_id, outcome.events); !w) return w;
-  if (outcome.recording) {
-    if (DbStatus w = write_recording(db, attempt_id, *outcome.recording, true); !w) return w;
+  if (packed.value()) {
+    if (DbStatus w = write_recording(db, attempt_id, *packed.value(), true); !w) return w;
   }
   const std::optional<double> duration =
       outcome.duration_s >= 0.0 ? std::optional<double>(outcome.duration_s) : std::nullopt;

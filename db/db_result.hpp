@@ -35,7 +35,9 @@ class [[nodiscard]] DbResult {
     assert(ok() && "DbResult::value() on an error");
     return std::get<0>(state_);
   }
-  T&& value() && {
+  /// On a temporary, moves the value out (returning a reference into a dying temporary would
+  /// dangle in `for (auto& x : f().value())`).
+  T value() && {
     assert(ok() && "DbResult::value() on an error");
     return std::get<0>(std::move(state_));
   }

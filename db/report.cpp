@@ -59,12 +59,37 @@ std::size_t display_width(const std::string& text) {
   return width;
 }
 
+// Control characters as visible escapes (a newline shows as backslash-n).
+std::string printable(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c < 0x20 || c == 0x7F) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\x%02x", c);
+      out += buffer;
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  return out;
+}
+
 // An aligned text table: columns padded to their widest cell, numbers right-aligned.
 class TextTable {
  public:
   TextTable(std::vector<std::string> headers, std::vector<bool> right_aligned)
       : headers_(std::move(headers)), right_(std::move(right_aligned)) {}
-  void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  void add(std::vector<std::string> row) {
+    // A newline or tab inside a stored id would break the layout: show it escaped.
+    for (std::string& cell : row) cell = printable(cell);
+    rows_.push_back(std::move(row));
+  }
 
   void print(std::ostream& out) const {
     std::vector<std::size_t> width(headers_.size());
@@ -236,7 +261,7 @@ void write_report_table(const ReportData& data, std::ostream& out) {
   attempts.print(out);
 
   for (const auto& [trainee, modules] : data.progress) {
-    out << "\nProgress of trainee " << trainee << "\n";
+    out << "\nProgress of trainee " << printable(trainee) << "\n";
     TextTable progress({"module", "state", "attempts", "passes", "run", "needed", "best", "last",
                         "missing prerequisites"},
                        {false, false, true, true, true, true, true, true, false});

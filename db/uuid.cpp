@@ -5,6 +5,9 @@
 #include <cstdint>
 #include <random>
 
+#include <sys/random.h>
+#include <sys/types.h>
+
 namespace acdr {
 
 namespace {
@@ -107,16 +110,22 @@ bool is_uuid(std::string_view text) {
 }
 
 std::string make_uuid_v4() {
-  // One random_device per thread: seeding is the expensive part, and UUIDs are rare.
-  thread_local std::mt19937_64 engine([] {
-    std::random_device device;
-    std::seed_seq seed{device(), device(), device(), device(), device(), device()};
-    return std::mt19937_64(seed);
-  }());
+  // 122 random bits straight from the kernel for every UUID: no generator state that a fork()
+  // would copy into the child (two processes must never mint the same attempt id).
   Bytes16 b{};
-  for (int i = 0; i < 16; i += 8) {
-    const std::uint64_t r = engine();
-    for (int j = 0; j < 8; ++j) b[i + j] = static_cast<std::uint8_t>(r >> (8 * j));
+  std::size_t filled = 0;
+  while (filled < b.size()) {
+    const ssize_t got = getrandom(b.data() + filled, b.size() - filled, 0);
+    if (got <= 0) break;
+    filled += static_cast<std::size_t>(got);
+  }
+  if (filled < b.size()) {
+    // getrandom unavailable (very old kernel): fall back to std::random_device, per call.
+    std::random_device device;
+    for (std::size_t i = 0; i < b.size(); i += 4) {
+      const std::uint32_t r = device();
+      for (std::size_t j = 0; j < 4; ++j) b[i + j] = static_cast<std::uint8_t>(r >> (8 * j));
+    }
   }
   stamp(b, 4);
   return format_uuid(b);

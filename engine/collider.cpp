@@ -57,6 +57,11 @@ double cup_distance(const Vec3& p, double R, double t, Vec3* normal) {
     const double len = p.norm();
     const Vec3 radial = len > 1e-15 ? Vec3(p / len) : Vec3(-Vec3::UnitZ());
     const double d = std::abs(len - mid) - 0.5 * t;
+    // Inside the wall near the rim, the rim face (z = 0) may be the nearest surface.
+    if (d < 0.0 && p.z() > d) {
+      if (normal) *normal = Vec3::UnitZ();
+      return p.z();
+    }
     if (normal) *normal = len >= mid ? radial : Vec3(-radial);
     return d;
   }

@@ -50,7 +50,8 @@ class NeighborGrid {
           const std::uint32_t b = bucket(q);
           for (std::uint32_t k = start_[b]; k < start_[b + 1]; ++k) {
             const std::int32_t j = sorted_[k];
-            if (cell_[j] == q) f(static_cast<std::size_t>(j));
+            const auto& cj = cell_[j];
+            if (cj[0] == q[0] && cj[1] == q[1] && cj[2] == q[2]) f(static_cast<std::size_t>(j));
           }
         }
   }

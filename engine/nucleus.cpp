@@ -77,6 +77,17 @@ inline double kernel_slope(double r, double R) {
   return -6.0 * r / (R * R) * q * q;
 }
 
+/// Weight of a pair in the viscous operator: (1 - r/R)^1.5 on R = 2.1 h. Chosen (by lattice
+/// sums, docs/verification.md) so that the effective viscosity hardly depends on how the
+/// lattice is sheared: layers sliding past each other by any fraction of h change it by
+/// 0..+3.4 % (the sharp 18-neighbour stencil, exact at rest, loses up to 45 % when a neighbour
+/// shell leaves the cut-off), while staying within 7 % of isotropic on the cubic lattice.
+inline double viscous_weight(double r, double R) {
+  if (r >= R) return 0.0;
+  const double q = 1.0 - r / R;
+  return q * std::sqrt(q);
+}
+
 /// Smooth occupancy of a lattice site by a solid from its signed distance: 1 a half spacing
 /// inside, 0 a half spacing outside, smoothstep between (zero slope at both ends, so a
 /// particle resting at the contact distance feels no jump in stiffness).
@@ -174,14 +185,17 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   if (config_.materials.empty()) config_.materials.emplace_back();
   volume_ = h_ * h_ * h_;
   radius_ = options_.neighbor_radius_factor * h_;
+  density_radius_ = std::min(options_.density_radius_factor * h_, radius_);
   contact_ = options_.contact_radius_factor * h_;
 
   // Rest sums of the full cubic lattice: the normalisations n0 (density) and s0 (viscosity).
   n0_ = 1.0;
   s0_ = 0.0;
+  t0_ = 0.0;
   site_offset_.clear();
   site_w_.clear();
   site_r2_.clear();
+  site_wv_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -189,10 +203,13 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         if (a == 0 && b == 0 && c == 0) continue;
         const double r = h_ * std::sqrt(double(a * a + b * b + c * c));
         if (r >= radius_) continue;
-        n0_ += kernel(r, radius_);
-        s0_ += r * r;
+        const double wv = viscous_weight(r, radius_);
+        n0_ += kernel(r, density_radius_);
+        s0_ += wv * r * r;
+        t0_ += wv * (a * h_) * (a * h_) * (c * h_) * (c * h_) / (r * r);
         site_offset_.push_back(h_ * Vec3(a, b, c));
-        site_w_.push_back(kernel(r, radius_));
+        site_w_.push_back(kernel(r, density_radius_));
+        site_wv_.push_back(wv);
         site_r2_.push_back(r * r);
       }
 
@@ -251,6 +268,28 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   pair_n_.resize(pair_cap);
   pair_r_.resize(pair_cap);
   pair_visc_.resize(pair_cap);
+  pair_bond_.resize(pair_cap);
+  far_ij_.resize(2 * pair_cap);
+  far_n_.resize(pair_cap);
+  far_r_.resize(pair_cap);
+  far_bond_.resize(pair_cap);
+  bond_in_pair_.assign(nb, 0);
+  loose_.assign(nb, 0);
+  // Bonds of each particle (CSR), to find a pair's bond.
+  bond_adj_start_.assign(n + 1, 0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    ++bond_adj_start_[bond_ij_[2 * b] + 1];
+    ++bond_adj_start_[bond_ij_[2 * b + 1] + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) bond_adj_start_[i + 1] += bond_adj_start_[i];
+  bond_adj_.assign(2 * nb, 0);
+  {
+    std::vector<std::int32_t> cursor(bond_adj_start_.begin(), bond_adj_start_.end() - 1);
+    for (std::size_t b = 0; b < nb; ++b) {
+      bond_adj_[cursor[bond_ij_[2 * b]]++] = static_cast<std::int32_t>(b);
+      bond_adj_[cursor[bond_ij_[2 * b + 1]]++] = static_cast<std::int32_t>(b);
+    }
+  }
   pair_g_.resize(pair_cap);
   second_moment_.assign(n, 0.0);
   density_.assign(n, 0.0);
@@ -258,7 +297,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   press_coef_.assign(n, 0.0);
   pressure_.assign(n, 0.0);
   body_force_.assign(n, Vec3::Zero());
-  wall_c_.assign(n, 0.0);
+  wall_c_.assign(n, Eigen::Matrix3d::Zero());
+  visc_coef_.assign(n, 0.0);
   wall_g_.assign(n, Vec3::Zero());
   rhs_.assign(n, Vec3::Zero());
   diag_inv_.assign(n, Eigen::Matrix3d::Identity());
@@ -295,6 +335,27 @@ std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_;
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
 void Nucleus::set_gravity(const Vec3& g) { gravity_ = g; }
 std::size_t Nucleus::pair_count() const { return pairs_; }
+
+double Nucleus::kinetic_energy_J() const {
+  double e = 0.0;
+  for (std::size_t i = 0; i < x_.size(); ++i) e += 0.5 * mass_[i] * v_[i].squaredNorm();
+  return e;
+}
+
+double Nucleus::mechanical_energy_J() const {
+  double e = kinetic_energy_J();
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    e -= mass_[i] * gravity_.dot(x_[i]);
+    if (kappa_[i] > 0.0) e += 0.5 * volume_ * pressure_[i] * pressure_[i] / kappa_[i];
+  }
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+    if (!bond_alive_[b]) continue;
+    const double stretch =
+        min_image(x_[bond_ij_[2 * b + 1]] - x_[bond_ij_[2 * b]]).norm() - bond_rest_[b];
+    e += 0.5 * bond_k_[b] * stretch * stretch;
+  }
+  return e;
+}
 double Nucleus::spacing_m() const { return h_; }
 
 std::uint64_t Nucleus::state_hash() const {
@@ -426,9 +487,16 @@ void Nucleus::build_pairs() {
       });
     }
   }
+  // Pairs closer than the density radius ("near": they carry pressure as well as viscosity)
+  // come first, [0, near_pairs_); the others follow. A pair that is also a live bond records it,
+  // so the solver applies both with one coefficient along the same direction.
   pairs_ = 0;
+  near_pairs_ = 0;
+  std::size_t far = 0;
   pairs_overflow_ = false;
   const std::size_t cap = pair_r_.size();
+  const double Rd2 = density_radius_ * density_radius_;
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) bond_in_pair_[b] = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!awake_[i] && !halo_[i]) continue;
     grid_.for_each_candidate(i, [&](std::size_t j) {
@@ -438,17 +506,54 @@ void Nucleus::build_pairs() {
       const Vec3 d = min_image(x_[j] - x_[i]);
       const double r2 = d.squaredNorm();
       if (r2 >= R2 || r2 <= 0.0) return;
-      if (pairs_ >= cap) {
+      if (near_pairs_ + far >= cap) {
         pairs_overflow_ = true;
         return;
       }
+      std::int32_t bond = -1;
+      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
+        const std::int32_t b = bond_adj_[k];
+        if (bond_alive_[b] && bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
+          bond = b;
+          bond_in_pair_[b] = 1;
+          break;
+        }
+      }
       const double r = std::sqrt(r2);
-      pair_ij_[2 * pairs_] = static_cast<std::int32_t>(i);
-      pair_ij_[2 * pairs_ + 1] = static_cast<std::int32_t>(j);
-      pair_r_[pairs_] = r;
-      pair_n_[pairs_] = d / r;
-      ++pairs_;
+      if (r2 < Rd2) {
+        const std::size_t p = near_pairs_++;
+        pair_ij_[2 * p] = static_cast<std::int32_t>(i);
+        pair_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
+        pair_r_[p] = r;
+        pair_n_[p] = d / r;
+        pair_bond_[p] = bond;
+      } else {
+        const std::size_t p = far++;
+        far_ij_[2 * p] = static_cast<std::int32_t>(i);
+        far_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
+        far_r_[p] = r;
+        far_n_[p] = d / r;
+        far_bond_[p] = bond;
+      }
     });
+  }
+  pairs_ = near_pairs_ + far;
+  for (std::size_t p = 0; p < far; ++p) {
+    const std::size_t q = near_pairs_ + p;
+    pair_ij_[2 * q] = far_ij_[2 * p];
+    pair_ij_[2 * q + 1] = far_ij_[2 * p + 1];
+    pair_r_[q] = far_r_[p];
+    pair_n_[q] = far_n_[p];
+    pair_bond_[q] = far_bond_[p];
+  }
+  // Bonds stretched beyond the interaction radius (possible only when delta_max > R - L) are
+  // applied on their own.
+  loose_bonds_ = 0;
+  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+    if (!bond_alive_[b] || bond_in_pair_[b]) continue;
+    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
+    if (!awake_[i] && !awake_[j]) continue;
+    loose_[loose_bonds_++] = static_cast<std::int32_t>(b);
   }
   // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
   if (solver_.sleep_enabled) {
@@ -468,12 +573,11 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   wall_count_ = 0;
   // A lattice site within R of the particle can be inside the solid only if d < R + h/2.
   const double wall_range = radius_ + 0.5 * h_;
-  const double area = h_ * h_;
   const std::size_t n_static = statics_.size();
   for (std::size_t i = 0; i < n; ++i) {
     density_[i] = 0.0;
     second_moment_[i] = 0.0;
-    wall_c_[i] = 0.0;
+    wall_c_[i] = Eigen::Matrix3d::Zero();
     wall_g_[i] = Vec3::Zero();
     con_count_[i] = 0;
     con_v_[i] = Vec3::Zero();
@@ -500,14 +604,21 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       w.normal = normal;
       w.v_wall = vw;
       w.point = x_[i] - d * normal;
-      // No-slip coupling of the first layer: the wall's share of the shear, mu A / d.
-      w.c = d < h_ ? mu_[i] * area / std::max(d, 0.5 * contact_) : 0.0;
       // The solid fills the lattice sites a particle is missing near it: their density, its
       // gradient, and their second moment are counted as neighbours (the role of boundary
       // particles in Akinci et al. 2012), site by site from the signed distance, so edges,
       // corners and thin shells count what is really solid.
+      //
+      // No-slip: the solid's sites also enter the viscous sum, each moving with the mirrored
+      // velocity v_w - (d_site / d)(v_i - v_w) of Morris, Fox & Zhu (J Comput Phys 1997), which
+      // extends the particle's velocity profile linearly through the wall to the wall velocity
+      // at the surface. A site's pair term then couples the particle to the wall velocity with
+      // (1 + d_site / d) times its weight: the tensor `visc` (scaled by the particle's viscous
+      // coefficient in assemble()). On the lattice this is mu A / d for the first layer.
       w.grad = Vec3::Zero();
+      w.visc = Eigen::Matrix3d::Zero();
       if (d < wall_range) {
+        const double d_eff = std::max(d, 0.25 * h_);
         for (std::size_t o = 0; o < site_offset_.size(); ++o) {
           const Vec3 q = x_[i] + site_offset_[o];
           Vec3 nq;
@@ -516,11 +627,12 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
           const double occ = occupancy(sd, h_, &slope);
           if (occ <= 0.0) continue;
           density_[i] += occ * site_w_[o];
-          second_moment_[i] += occ * site_r2_[o];
+          second_moment_[i] += occ * site_wv_[o] * site_r2_[o];
           w.grad += (slope * site_w_[o] / n0_) * nq;
+          const Vec3 u = site_offset_[o] / std::sqrt(site_r2_[o]);
+          w.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
         }
       }
-      wall_c_[i] += dt * w.c;
       wall_g_[i] += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
       // is set to what brings the particle exactly to the contact distance, or to its current
@@ -581,25 +693,42 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
 void Nucleus::assemble(double dt) {
   const std::size_t n = x_.size();
   const double R = radius_;
+  const double Rd = density_radius_;
   // Neighbour sums: density (kernel units) and second moment.
   for (std::size_t i = 0; i < n; ++i) density_[i] += 1.0;  // self
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double r = pair_r_[p];
-    const double w = kernel(r, R);
-    density_[i] += w;
-    density_[j] += w;
-    second_moment_[i] += r * r;
-    second_moment_[j] += r * r;
-    pair_g_[p] = kernel_slope(r, R) / n0_;
+    if (p < near_pairs_) {
+      const double w = kernel(r, Rd);
+      density_[i] += w;
+      density_[j] += w;
+      pair_g_[p] = kernel_slope(r, Rd) / n0_;
+    }
+    const double wv = viscous_weight(r, R);
+    second_moment_[i] += wv * r * r;
+    second_moment_[j] += wv * r * r;
+    pair_visc_[p] = wv;
   }
-  // Viscous coefficients c_ij = 30 mu V / S (see the file comment), S the pair's mean second
-  // moment, floored at 0.6 s0 so a sparse neighbourhood (free surface, a few loose particles)
-  // does not get an unbounded coefficient.
+  // Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth moment
+  // sum w r_x^2 r_z^2 / r^2 of the neighbourhood: the stress of the pair operator under a
+  // shear rate gamma is gamma T c / (2 V w), so this gives tau = mu gamma (see the file comment).
+  // T is the rest lattice's t0 scaled by the particle's own weighted second moment S / s0 (for
+  // isotropic directions T = S / 15), so a disordered or compressed neighbourhood is
+  // normalised by what it actually holds. S is floored at 0.6 s0 so a sparse neighbourhood
+  // (free surface, loose particles) does not get an unbounded coefficient.
+  for (std::size_t i = 0; i < n; ++i)
+    visc_coef_[i] = 2.0 * mu_[i] * volume_ * s0_ / (t0_ * std::max(second_moment_[i], 0.6 * s0_));
+  // pair_visc_ becomes the pair's whole implicit coefficient: dt c_ij (+ dt^2 k of its bond).
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const double s = std::max(0.5 * (second_moment_[i] + second_moment_[j]), 0.6 * s0_);
-    pair_visc_[p] = dt * 30.0 * 0.5 * (mu_[i] + mu_[j]) * volume_ / s;
+    pair_visc_[p] *= dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+    const std::int32_t b = pair_bond_[p];
+    if (b >= 0) pair_visc_[p] += dt * dt * bond_k_[b];
+  }
+  for (std::size_t k = 0; k < wall_count_; ++k) {
+    const WallHit& w = walls_[k];
+    wall_c_[w.particle] += (dt * visc_coef_[w.particle]) * w.visc;
   }
   // Pressure constraint C_i and which particles carry it (compression only, with a 1 % margin
   // so a particle about to be compressed is already implicit).
@@ -611,13 +740,19 @@ void Nucleus::assemble(double dt) {
 
   // Forces at the start of the step (into rhs_ as dt * f), then M v0.
   for (std::size_t i = 0; i < n; ++i) rhs_[i] = dt * (mass_[i] * gravity_ + f_ext_[i]);
-  // Bonds: force k (r - L) along the bond; the per-step direction and implicit coefficient
-  // dt^2 k are cached for the solver (0 for bonds that are broken or between frozen particles).
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  // Bonds: force k (r - L) along the bond (pair bonds along their pair; loose bonds cache
+  // their direction and implicit coefficient dt^2 k for the solver).
+  for (std::size_t p = 0; p < pairs_; ++p) {
+    const std::int32_t b = pair_bond_[p];
+    if (b < 0) continue;
+    const Vec3 f = dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * pair_n_[p];
+    rhs_[pair_ij_[2 * p]] += f;
+    rhs_[pair_ij_[2 * p + 1]] -= f;
+  }
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     bond_a_[b] = 0.0;
-    if (!bond_alive_[b]) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    if (!awake_[i] && !awake_[j]) continue;
     const Vec3 d = min_image(x_[j] - x_[i]);
     const double r = d.norm();
     if (r <= 0.0) continue;
@@ -627,7 +762,7 @@ void Nucleus::assemble(double dt) {
     rhs_[i] += f;
     rhs_[j] -= f;
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double P = kappa_[i] * volume_ * std::max(constraint_[i], 0.0) +
                      kappa_[j] * volume_ * std::max(constraint_[j], 0.0);
@@ -644,14 +779,14 @@ void Nucleus::assemble(double dt) {
   std::fill(s_.begin(), s_.end(), 0.0);
   for (std::size_t k = 0; k < wall_count_; ++k) {
     const WallHit& w = walls_[k];
-    rhs_[w.particle] += dt * w.c * w.v_wall;
+    rhs_[w.particle] += (dt * visc_coef_[w.particle]) * (w.visc * w.v_wall);
     s_[w.particle] += w.grad.dot(w.v_wall);
   }
   for (std::size_t i = 0; i < n; ++i) {
     s_[i] *= press_coef_[i];
     rhs_[i] += s_[i] * wall_g_[i];
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3 g = (s_[i] + s_[j]) * pair_g_[p] * pair_n_[p];
     rhs_[i] -= g;
@@ -661,20 +796,21 @@ void Nucleus::assemble(double dt) {
   // Block-Jacobi preconditioner: the 3x3 diagonal blocks of the system matrix.
   // grad_i C_i = -sum_j g_ij n_ij + wall_g_i, accumulated in q_ as scratch.
   for (std::size_t i = 0; i < n; ++i) {
-    diag_inv_[i] = (mass_[i] + wall_c_[i]) * Eigen::Matrix3d::Identity();
+    diag_inv_[i] = mass_[i] * Eigen::Matrix3d::Identity() + wall_c_[i];
     q_[i] = wall_g_[i];
   }
   for (std::size_t p = 0; p < pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3& nn = pair_n_[p];
     const Eigen::Matrix3d nnT = nn * nn.transpose();
-    const double g = pair_g_[p];
+    const double g = p < near_pairs_ ? pair_g_[p] : 0.0;
     diag_inv_[i] += (pair_visc_[p] + press_coef_[j] * g * g) * nnT;
     diag_inv_[j] += (pair_visc_[p] + press_coef_[i] * g * g) * nnT;
     q_[i] -= g * nn;
     q_[j] += g * nn;
   }
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     if (bond_a_[b] == 0.0) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     const Eigen::Matrix3d K = bond_a_[b] * bond_n_[b] * bond_n_[b].transpose();
@@ -694,11 +830,12 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
   const std::size_t n = x_.size();
   auto& s = s_;
   for (std::size_t i = 0; i < n; ++i) {
-    y[i] = (mass_[i] + wall_c_[i]) * x[i];
+    y[i] = mass_[i] * x[i] + wall_c_[i] * x[i];
     s[i] = wall_g_[i].dot(x[i]);
   }
-  // Bonds: dt^2 k n n^T on the relative velocity.
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
+  // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
+  for (std::size_t k = 0; k < loose_bonds_; ++k) {
+    const std::int32_t b = loose_[k];
     if (bond_a_[b] == 0.0) continue;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     const Vec3& nn = bond_n_[b];
@@ -706,8 +843,9 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     y[i] -= f;
     y[j] += f;
   }
-  // Viscosity (dt c n n^T on the relative velocity) and the divergence pass of the pressure.
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  // Viscosity and pair bonds (a n n^T on the relative velocity), and on near pairs the
+  // divergence pass of the pressure.
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3& nn = pair_n_[p];
     const double dn = nn.dot(x[j] - x[i]);
@@ -718,12 +856,19 @@ void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
     s[i] += div;
     s[j] += div;
   }
+  for (std::size_t p = near_pairs_; p < pairs_; ++p) {
+    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
+    const Vec3& nn = pair_n_[p];
+    const Vec3 f = (pair_visc_[p] * nn.dot(x[j] - x[i])) * nn;
+    y[i] -= f;
+    y[j] += f;
+  }
   // Gradient pass: y += sum_k coef_k (grad C_k . x) grad C_k.
   for (std::size_t i = 0; i < n; ++i) {
     s[i] *= press_coef_[i];
     y[i] += s[i] * wall_g_[i];
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const Vec3 g = (s[i] + s[j]) * pair_g_[p] * pair_n_[p];
     y[i] -= g;
@@ -851,7 +996,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     const WallHit& w = walls_[k];
     s_[w.particle] -= w.grad.dot(w.v_wall);
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
+  for (std::size_t p = 0; p < near_pairs_; ++p) {
     const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
     const double div = pair_g_[p] * pair_n_[p].dot(v_[j] - v_[i]);
     s_[i] += div;
@@ -909,14 +1054,16 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
       BodyReaction& r = reactions[c.body];
       // Force on the body = minus the force on the particle.
       Vec3 f = -share[h - k] * w.normal;                 // contact
-      f += w.c * (v_[i] - w.v_wall);                     // no-slip drag
+      const Eigen::Matrix3d C = visc_coef_[i] * w.visc;
+      f += C * (v_[i] - w.v_wall);                       // no-slip drag
       f += volume_ * pressure_[i] * w.grad;              // wall pressure (grad points inward)
       r.force_N += f;
       body_force_[i] += f;
       const Vec3 arm = w.point - r.reference_point;
       r.torque_Nm += arm.cross(f);
-      r.drag_Ns_m += w.c;
-      r.rot_drag_Nms += w.c * arm.squaredNorm();
+      // Trace: an upper bound of the largest eigenvalue of the (PSD) coupling tensor.
+      r.drag_Ns_m += C.trace();
+      r.rot_drag_Nms += C.trace() * arm.squaredNorm();
     }
     k = end;
   }
@@ -938,7 +1085,12 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double tiny = 1e-4 * h_;
   for (std::size_t k = 0; k < active_count_; ++k) {
     const std::size_t i = active_[k];
-    for (std::size_t c_idx = 0; c_idx < n_static + moving.size(); ++c_idx) {
+    // Statics, then the moving bodies, then the statics again: a particle squeezed between
+    // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
+    // overlap with the instrument is pushed out over the next steps).
+    const std::size_t n_all = n_static + moving.size();
+    for (std::size_t pass = 0; pass < n_all + (moving.empty() ? 0 : n_static); ++pass) {
+      const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
       const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
       const Pose& start = c.pose;

@@ -29,9 +29,12 @@ struct NumericalReport {
 /// Solver options that are not part of a scene file (tests, verification and benchmarks set
 /// them). Defaults are what the World uses.
 struct NucleusOptions {
-  /// Interaction radius in units of the spacing h: viscosity and pressure act between particles
-  /// closer than this. 1.5 takes the 18 nearest lattice neighbours (6 at h, 12 at sqrt(2)h).
-  double neighbor_radius_factor = 1.5;
+  /// Interaction radius in units of the spacing h: viscosity acts between particles closer
+  /// than this (32 lattice neighbours at 2.1; see viscous_weight in nucleus.cpp).
+  double neighbor_radius_factor = 2.1;
+  /// Support of the density kernel (pressure), in units of h; at most the interaction radius.
+  /// 1.5 reaches the 18 nearest lattice neighbours.
+  double density_radius_factor = 1.5;
   /// Particles are kept this far (in units of h) from solid surfaces: half a spacing, so a
   /// lattice touching a wall fills the space up to it.
   double contact_radius_factor = 0.5;
@@ -106,6 +109,11 @@ class Nucleus {
   void set_fixed_velocity(std::size_t i, const Vec3& v_m_s);
   void set_gravity(const Vec3& gravity_m_s2);
   std::size_t pair_count() const;               ///< interaction pairs in the last step
+  /// Mechanical energy, J: kinetic + gravitational (zero at the origin) + bond springs +
+  /// pressure (kappa V C^2 / 2 with C from the last step's pressures). Without driving it can
+  /// only decrease (backward Euler and viscosity dissipate); the stress suite checks that.
+  double mechanical_energy_J() const;
+  double kinetic_energy_J() const;
   double spacing_m() const;
 
  private:
@@ -135,10 +143,13 @@ class Nucleus {
   double radius_ = 1.5e-3;   // interaction radius R, m
   double contact_ = 0.5e-3;  // contact distance from surfaces, m
   double n0_ = 1.0;          // rest number density sum (kernel units) of the full lattice
-  double s0_ = 1.0;          // rest second moment sum r^2 of the full lattice, m^2
+  double s0_ = 1.0;          // rest weighted second moment sum w r^2 of the full lattice, m^2
+  double t0_ = 1.0;          // rest weighted fourth moment sum w r_x^2 r_z^2 / r^2, m^2
+  double density_radius_ = 1.5e-3;  // density kernel support, m
   std::vector<Vec3> site_offset_;  // lattice neighbour offsets within R, m
   std::vector<double> site_w_;     // their kernel weights
   std::vector<double> site_r2_;    // their squared lengths, m^2
+  std::vector<double> site_wv_;    // their viscous weights
 
   // Particles (N each).
   std::vector<Vec3> x_;          // positions, m
@@ -174,8 +185,21 @@ class Nucleus {
   std::vector<Vec3> pair_n_;           // unit vector i -> j
   std::vector<double> pair_r_;         // m
   std::vector<double> pair_visc_;      // dt * c_ij, N s/m * s
-  std::vector<double> pair_g_;         // dW/dr / n0, 1/m
+  std::vector<double> pair_g_;         // dW/dr / n0, 1/m (near pairs)
+  std::vector<std::int32_t> pair_bond_;  // the pair's live bond, -1 if none
   std::size_t pairs_ = 0;
+  std::size_t near_pairs_ = 0;         // pairs [0, near_pairs_) are within the density radius
+  // Far-pair staging while building (capacity P), then appended after the near pairs.
+  std::vector<std::int32_t> far_ij_;
+  std::vector<Vec3> far_n_;
+  std::vector<double> far_r_;
+  std::vector<std::int32_t> far_bond_;
+  // Bonds per particle (CSR) and this step's bookkeeping.
+  std::vector<std::int32_t> bond_adj_start_;  // N + 1
+  std::vector<std::int32_t> bond_adj_;        // 2B bond indices
+  std::vector<std::uint8_t> bond_in_pair_;    // B
+  std::vector<std::int32_t> loose_;           // bonds not in a pair this step
+  std::size_t loose_bonds_ = 0;
   bool pairs_overflow_ = false;
 
   // Per-particle step data (N each).
@@ -185,7 +209,8 @@ class Nucleus {
   std::vector<double> press_coef_;     // dt^2 kappa V if pressure active, else 0
   std::vector<double> pressure_;       // Pa, end of step
   std::vector<Vec3> body_force_;       // N, force on moving bodies by particle, last step
-  std::vector<double> wall_c_;         // dt * sum c_w
+  std::vector<Eigen::Matrix3d> wall_c_;  // dt * no-slip coupling tensor, N s/m * s
+  std::vector<double> visc_coef_;      // 2 mu V s0 / (t0 S_i): viscous coefficient, N s/m
   std::vector<Vec3> wall_g_;           // gradient of the wall density term / n0, 1/m
   std::vector<Vec3> rhs_;
   std::vector<Eigen::Matrix3d> diag_inv_;
@@ -198,8 +223,8 @@ class Nucleus {
   struct WallHit {
     std::int32_t particle;
     std::int32_t collider;  // index into moving (>= 0) or -1 - index into statics
-    double c;               // no-slip coupling mu A / d, N s/m
     Vec3 grad;              // gradient of the solid's density share / n0, 1/m
+    Eigen::Matrix3d visc;   // no-slip coupling tensor in units of the viscous coefficient
     Vec3 normal;            // outward surface normal
     Vec3 v_wall;            // surface velocity, m/s
     Vec3 point;             // surface point, m

@@ -38,11 +38,21 @@ struct Frame {
 
 }  // namespace
 
-JsonPositionIndex::JsonPositionIndex(std::string_view text, std::vector<DuplicateKey>* duplicates) {
-  line_starts_.push_back(0);
+JsonPositionIndex JsonPositionIndex::lines_only(std::string_view text) {
+  JsonPositionIndex index;
+  index.index_lines(text);
+  return index;
+}
+
+void JsonPositionIndex::index_lines(std::string_view text) {
+  line_starts_.assign(1, 0);
   for (std::size_t i = 0; i < text.size(); ++i) {
     if (text[i] == '\n') line_starts_.push_back(i + 1);
   }
+}
+
+JsonPositionIndex::JsonPositionIndex(std::string_view text, std::vector<DuplicateKey>* duplicates) {
+  index_lines(text);
 
   std::size_t pos = 0;
   const std::size_t n = text.size();
@@ -83,8 +93,11 @@ JsonPositionIndex::JsonPositionIndex(std::string_view text, std::vector<Duplicat
     } else if (c == '"') {
       skip_string();
     } else {
+      // Malformed input (a stray ':' or a closing bracket of the wrong kind) must still
+      // consume a byte, or the scan would loop in place.
+      const std::size_t before = pos;
       skip_scalar();
-      if (pos < n && text[pos] == ':') ++pos;  // malformed input: never loop in place
+      if (pos == before) ++pos;
     }
   };
 

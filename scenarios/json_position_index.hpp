@@ -37,6 +37,9 @@ class JsonPositionIndex {
   /// end). Duplicate keys are appended to `duplicates` when it is given.
   explicit JsonPositionIndex(std::string_view text, std::vector<DuplicateKey>* duplicates = nullptr);
 
+  /// Only line starts, for positions of byte offsets (e.g. of a parse error).
+  static JsonPositionIndex lines_only(std::string_view text);
+
   /// Position of `pointer`; when it is not recorded (a missing key, or too deep), the position
   /// of its nearest recorded ancestor; {1, 1} for an empty text.
   TextPosition find(const std::string& pointer) const;
@@ -45,6 +48,8 @@ class JsonPositionIndex {
   TextPosition position_of_offset(std::size_t offset) const;
 
  private:
+  void index_lines(std::string_view text);
+
   std::vector<std::size_t> line_starts_;  ///< byte offset of each line's first byte
   std::unordered_map<std::string, TextPosition> positions_;
 };

@@ -178,7 +178,7 @@ const json* ObjectReader::lookup(const std::string& key, Need need, const std::s
   if (object_ == nullptr) return nullptr;
   auto it = object_->find(key);
   if (it == object_->end()) {
-    if (need == Need::kRequired) {
+    if (need != Need::kOptional) {
       ctx_->error_located(child(key), pointer_, "missing required key (expected " + expected + ")");
     }
     return nullptr;
@@ -186,9 +186,9 @@ const json* ObjectReader::lookup(const std::string& key, Need need, const std::s
   return &*it;
 }
 
-bool ObjectReader::check_range(const std::string& key, double si_value, double shown_value,
+bool ObjectReader::check_range(const std::string& key, double value_in_si, double shown_value,
                                const Range& si_range, double to_si, const char* symbol) {
-  if (inside(si_range, si_value)) return true;
+  if (inside(si_range, value_in_si)) return true;
   ctx_->error(child(key), "out of range (got " + with_unit(shown_value, symbol) + ", expected " +
                               range_text(si_range, to_si, symbol) + ")");
   return false;
@@ -212,11 +212,12 @@ std::optional<double> ObjectReader::number(const std::string& key, Need need, co
   return x;
 }
 
-std::optional<int> ObjectReader::integer(const std::string& key, Need need, const Range& range) {
+std::optional<int> ObjectReader::integer(const std::string& key, Need need, const Range& range,
+                                         const std::string& hint) {
   KeyInfo info = key_info(child_pattern(key), "integer", need == Need::kRequired);
   set_bounds(info, range, 1.0);
   ctx_->record(info);
-  const json* v = lookup(key, need, "an integer");
+  const json* v = lookup(key, need, hint.empty() ? "an integer" : "an integer: " + hint);
   if (v == nullptr) return std::nullopt;
   const std::optional<int> i = as_int(*v);
   if (!i) {
@@ -262,7 +263,7 @@ std::optional<double> ObjectReader::quantity(const std::vector<UnitKey>& spellin
   }
   if (object_ == nullptr) return std::nullopt;
   if (chosen == nullptr) {
-    if (need == Need::kRequired) {
+    if (need != Need::kOptional) {
       ctx_->error_located(child(names.front()), pointer_,
                           "missing required key (expected " + expected + ")");
     }
@@ -314,7 +315,7 @@ std::optional<Vec3> ObjectReader::vector3(const std::vector<UnitKey>& spellings,
   }
   if (object_ == nullptr) return std::nullopt;
   if (chosen == nullptr) {
-    if (need == Need::kRequired) {
+    if (need != Need::kOptional) {
       ctx_->error_located(child(names.front()), pointer_,
                           "missing required key (expected " + expected + ")");
     }
@@ -379,7 +380,8 @@ std::optional<std::vector<double>> ObjectReader::numbers(const std::string& key,
 }
 
 std::optional<std::string> ObjectReader::string(const std::string& key, Need need, bool nonempty,
-                                                const std::vector<std::string>& allowed) {
+                                                const std::vector<std::string>& allowed,
+                                                const std::string& hint) {
   KeyInfo info = key_info(child_pattern(key), "string", need == Need::kRequired);
   info.enum_values = allowed;
   ctx_->record(info);
@@ -390,7 +392,7 @@ std::optional<std::string> ObjectReader::string(const std::string& key, Need nee
       expected += (i == 0 ? " " : ", ") + in_quotes(allowed[i]);
     }
   }
-  const json* v = lookup(key, need, expected);
+  const json* v = lookup(key, need, hint.empty() ? expected : expected + ": " + hint);
   if (v == nullptr) return std::nullopt;
   if (!v->is_string()) {
     ctx_->error(child(key), "wrong type (got " + describe_value(*v) + ", expected " + expected + ")");

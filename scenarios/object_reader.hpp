@@ -18,8 +18,9 @@
 
 namespace acdr {
 
-/// Whether a key must be present.
-enum class Need { kOptional, kRequired };
+/// Whether a key must be present. kRequiredHere: required in this file because of another
+/// key (e.g. a removal region because a nucleus is declared); the format lists it as optional.
+enum class Need { kOptional, kRequired, kRequiredHere };
 
 /// An allowed interval, in SI units. Unset bounds are open.
 struct Range {
@@ -91,8 +92,10 @@ class ObjectReader {
   /// A dimensionless number (unit symbol only for messages, e.g. "Pa·s" is in the key name).
   std::optional<double> number(const std::string& key, Need need, const Range& range,
                                const char* unit_symbol = "");
-  /// An integer (1 and 1.0 both accepted, as JSON Schema does).
-  std::optional<int> integer(const std::string& key, Need need, const Range& range);
+  /// An integer (1 and 1.0 both accepted, as JSON Schema does). `hint` completes the
+  /// "expected" text of a missing-key error ("the format version, 1").
+  std::optional<int> integer(const std::string& key, Need need, const Range& range,
+                             const std::string& hint = "");
   /// A quantity in one of several unit spellings (not two at once), converted to SI; the range
   /// is in SI.
   std::optional<double> quantity(const std::vector<UnitKey>& spellings, Need need,
@@ -105,7 +108,8 @@ class ObjectReader {
   std::optional<std::vector<double>> numbers(const std::string& key, Need need, std::size_t count);
   /// A string; `nonempty` rejects ""; `allowed` (when not empty) limits its values.
   std::optional<std::string> string(const std::string& key, Need need, bool nonempty = true,
-                                    const std::vector<std::string>& allowed = {});
+                                    const std::vector<std::string>& allowed = {},
+                                    const std::string& hint = "");
   std::optional<bool> boolean(const std::string& key, Need need);
   /// A nested object.
   std::optional<ObjectReader> object(const std::string& key, Need need);
@@ -122,7 +126,7 @@ class ObjectReader {
   const nlohmann::json* lookup(const std::string& key, Need need, const std::string& expected);
   void remember(const std::string& key);
   std::string child_pattern(const std::string& key) const;
-  bool check_range(const std::string& key, double si_value, double shown_value, const Range& si_range,
+  bool check_range(const std::string& key, double value_in_si, double shown_value, const Range& si_range,
                    double to_si, const char* symbol);
 
   LoadContext* ctx_;

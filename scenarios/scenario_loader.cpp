@@ -96,7 +96,7 @@ void read_box(ObjectReader& r, OpenBoxConfig& b) {
 }
 
 void read_material(ObjectReader& r, MaterialConfig& m) {
-  if (auto s = r.string("name", Need::kRequired)) m.name = *s;
+  if (auto s = r.string("name", Need::kRequired, true, {}, "the material name")) m.name = *s;
   if (auto v = r.number("density_kg_m3", Need::kOptional, Range::positive(20000.0), "kg/m³")) {
     m.density_kg_m3 = *v;
   }
@@ -304,7 +304,7 @@ void read_device(ObjectReader& r, DeviceConfig& d) {
   if (auto s = r.string("name", Need::kOptional)) d.name = *s;
   else if (!has_preset) d.name = "custom";
   // Without a preset the rated force must be stated: a wrong limit is felt by the user.
-  if (auto v = r.number("max_force_N", has_preset ? Need::kOptional : Need::kRequired,
+  if (auto v = r.number("max_force_N", has_preset ? Need::kOptional : Need::kRequiredHere,
                         Range::positive(100.0), "N")) {
     d.max_force_N = *v;
   }
@@ -371,7 +371,7 @@ void read_world(ObjectReader& r, WorldConfig& w) {
   if (auto o = r.object("solver", Need::kOptional)) read_solver(*o, w.solver);
   // Removal is what the nucleus is scored by, so a scene with a nucleus must say where it is.
   const bool nucleus_declared = r.has("nucleus");
-  if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequired : Need::kOptional)) {
+  if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequiredHere : Need::kOptional)) {
     read_removal(*o, w.removal, w.nucleus);
   }
   r.finish();
@@ -384,7 +384,7 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
   const std::vector<std::string>& metrics = known_metric_names();
   for (ObjectReader& tr : r.objects("terms", Need::kRequired, 1)) {
     RubricTerm t;
-    if (auto s = tr.string("metric", Need::kRequired, true, metrics)) t.metric = *s;
+    if (auto s = tr.string("metric", Need::kRequired, true, metrics, "the metric to score")) t.metric = *s;
     if (auto v = tr.number("expert_mean", Need::kRequired, Range::any())) t.expert_mean = *v;
     if (auto v = tr.number("expert_sd", Need::kRequired, {0.0, std::nullopt, true, false})) {
       t.expert_sd = *v;
@@ -397,7 +397,7 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
   // Every graded module states at least one safety gate (each safety metric passes on its own).
   for (ObjectReader& gr : r.objects("gates", Need::kRequired, 1)) {
     SafetyGate g;
-    if (auto s = gr.string("metric", Need::kRequired, true, metrics)) g.metric = *s;
+    if (auto s = gr.string("metric", Need::kRequired, true, metrics, "the metric to limit")) g.metric = *s;
     if (auto v = gr.number("max", Need::kRequired, Range::any())) g.max = *v;
     gr.finish();
     rubric.gates.push_back(g);
@@ -423,14 +423,14 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
 void read_document(ObjectReader& r, ScenarioModel& m) {
   // "$schema" lets an editor find scenario.schema.json; it has no meaning for the loader.
   r.string("$schema", Need::kOptional);
-  if (auto v = r.integer("format_version", Need::kRequired, Range::any())) {
+  if (auto v = r.integer("format_version", Need::kRequired, Range::any(), "the format version, 1")) {
     if (*v != 1) {
       r.context().error(r.child("format_version"),
                         "unsupported format version (got " + std::to_string(*v) + ", expected 1)");
     }
     m.format_version = *v;
   }
-  if (auto s = r.string("id", Need::kRequired)) {
+  if (auto s = r.string("id", Need::kRequired, true, {}, "the module id, e.g. \"box-warmup\"")) {
     static const std::regex kId("[a-z0-9][a-z0-9_-]*");
     if (!std::regex_match(*s, kId) || s->size() > 64) {
       r.context().error(r.child("id"),
@@ -440,8 +440,8 @@ void read_document(ObjectReader& r, ScenarioModel& m) {
     }
     m.id = *s;
   }
-  if (auto s = r.string("title", Need::kRequired)) m.title = *s;
-  if (auto s = r.string("goal", Need::kRequired)) m.goal = *s;
+  if (auto s = r.string("title", Need::kRequired, true, {}, "the title shown to trainees")) m.title = *s;
+  if (auto s = r.string("goal", Need::kRequired, true, {}, "the learning goal in plain words")) m.goal = *s;
   if (auto v = r.integer("module_order", Need::kOptional, Range::closed(0, 10000))) m.module_order = *v;
   if (auto v = r.number("time_limit_s", Need::kOptional, Range::closed(0.0, 86400.0), "s")) {
     m.time_limit_s = *v;
@@ -489,7 +489,7 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
   try {
     doc = json::parse(text, nullptr, true, false);
   } catch (const json::parse_error& e) {
-    const JsonPositionIndex lines(text);
+    const JsonPositionIndex lines = JsonPositionIndex::lines_only(text);
     std::size_t offset = e.byte == 0 ? 0 : e.byte - 1;
     const bool at_end = e.byte >= text.size();
     if (at_end) {
@@ -505,7 +505,7 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
   } catch (const json::exception& e) {
     // Number overflow (e.g. 1e400) is reported without a position; find the literal.
     std::string what = e.what();
-    const JsonPositionIndex lines(text);
+    const JsonPositionIndex lines = JsonPositionIndex::lines_only(text);
     TextPosition at{1, 1};
     const std::size_t q1 = what.find('\''), q2 = what.rfind('\'');
     if (q1 != std::string::npos && q2 > q1) {

@@ -5,6 +5,7 @@
 
 #include "ui/commands/make_trajectory_command.hpp"
 #include "ui/commands/render_command.hpp"
+#include "ui/commands/rescore_command.hpp"
 #include "ui/commands/run_command.hpp"
 
 
@@ -37,6 +38,17 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--width", render.width, "Width in pixels");
   render_cmd->add_option("--height", render.height, "Height in pixels");
   render_cmd->callback([&] { code = acdr::run_render(render, std::cout, std::cerr); });
+
+  // acdr rescore
+  acdr::RescoreOptions rescore;
+  auto* rescore_cmd =
+      app.add_subcommand("rescore", "Re-score stored attempts from their recordings");
+  rescore_cmd->add_option("--db", rescore.db, "Database file");
+  rescore_cmd->add_option("--trainee", rescore.trainee, "Only this trainee's attempts");
+  rescore_cmd->add_option("--module", rescore.module, "Only attempts at this module");
+  rescore_cmd->add_option("--attempt", rescore.attempt, "Only this attempt id");
+  rescore_cmd->add_flag("--dry-run", rescore.dry_run, "Compute and print, store nothing");
+  rescore_cmd->callback([&] { code = acdr::run_rescore(rescore, std::cout, std::cerr); });
 
   // acdr make-trajectory
   std::string waypoints, trajectory_out;

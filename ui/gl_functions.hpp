@@ -40,6 +40,7 @@ namespace acdr {
   X(CULLFACE, CullFace)                                                   \
   X(FRONTFACE, FrontFace)                                                 \
   X(POLYGONMODE, PolygonMode)                                             \
+  X(POLYGONOFFSET, PolygonOffset)                                         \
   X(PIXELSTOREI, PixelStorei)                                             \
   X(READPIXELS, ReadPixels)                                               \
   X(READBUFFER, ReadBuffer)                                               \
@@ -101,6 +102,7 @@ namespace acdr {
   X(BINDFRAMEBUFFER, BindFramebuffer)                                     \
   X(CHECKFRAMEBUFFERSTATUS, CheckFramebufferStatus)                       \
   X(FRAMEBUFFERRENDERBUFFER, FramebufferRenderbuffer)                     \
+  X(FRAMEBUFFERTEXTURE2D, FramebufferTexture2D)                           \
   X(GENRENDERBUFFERS, GenRenderbuffers)                                   \
   X(DELETERENDERBUFFERS, DeleteRenderbuffers)                             \
   X(BINDRENDERBUFFER, BindRenderbuffer)                                   \

@@ -68,12 +68,13 @@ std::optional<Eigen::Vector2f> project_to_pixel(const RenderCamera& camera, int 
   return Eigen::Vector2f(0.5f * (x_ndc + 1.0f) * width, 0.5f * (1.0f - y_ndc) * height);
 }
 
-std::optional<Bounds3f> scene_bounds(const RenderScene& scene) {
+std::optional<Bounds3f> scene_bounds(const RenderScene& scene, bool framing_only) {
   Bounds3f b;
   b.min.setConstant(std::numeric_limits<float>::infinity());
   b.max.setConstant(-std::numeric_limits<float>::infinity());
   bool any = false;
   for (const RenderMesh& mesh : scene.meshes) {
+    if (framing_only && !mesh.include_in_framing) continue;
     for (const Eigen::Vector3f& v : mesh.vertices) {
       const Eigen::Vector3f w = mesh.pose * v;
       b.min = b.min.cwiseMin(w);
@@ -133,7 +134,8 @@ RenderCamera frame_bounds(const Eigen::Vector3f& min, const Eigen::Vector3f& max
 
 RenderCamera frame_scene(const RenderScene& scene, float aspect,
                          const Eigen::Vector3f& view_direction) {
-  const std::optional<Bounds3f> bounds = scene_bounds(scene);
+  std::optional<Bounds3f> bounds = scene_bounds(scene, true);
+  if (!bounds) bounds = scene_bounds(scene, false);
   if (!bounds) return scene.camera;
   return frame_bounds(bounds->min, bounds->max, aspect, view_direction, scene.camera.fov_y_deg);
 }

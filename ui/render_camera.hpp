@@ -22,13 +22,16 @@ Eigen::Matrix4f projection_matrix(const RenderCamera& camera, float aspect);
 std::optional<Eigen::Vector2f> project_to_pixel(const RenderCamera& camera, int width, int height,
                                                 const Eigen::Vector3f& world);
 
-/// Axis-aligned bounds of what a scene draws: mesh vertices after their pose, particle centres
-/// grown by the radius (hidden particles excluded). The ground plane is not included.
 struct Bounds3f {
   Eigen::Vector3f min = Eigen::Vector3f::Zero();
   Eigen::Vector3f max = Eigen::Vector3f::Zero();
 };
-std::optional<Bounds3f> scene_bounds(const RenderScene& scene);
+
+/// Axis-aligned bounds of what a scene draws: mesh vertices after their pose, particle centres
+/// grown by the radius (hidden particles excluded). The ground plane is not included. With
+/// `framing_only`, meshes whose include_in_framing is false are left out. Empty when nothing
+/// is drawn.
+std::optional<Bounds3f> scene_bounds(const RenderScene& scene, bool framing_only = false);
 
 /// The direction the default camera looks from (from the target towards the eye): front-right
 /// and above, like the seed's figures of the box.
@@ -41,7 +44,8 @@ RenderCamera frame_bounds(const Eigen::Vector3f& min, const Eigen::Vector3f& max
                           const Eigen::Vector3f& view_direction = default_view_direction(),
                           float fov_y_deg = 35.0f, float margin = 1.1f);
 
-/// frame_bounds() of scene_bounds(); returns the scene's own camera when the scene is empty.
+/// frame_bounds() of the scene's framing bounds (scene_bounds(scene, true), or all of it when
+/// that is empty); returns the scene's own camera when nothing is drawn.
 RenderCamera frame_scene(const RenderScene& scene, float aspect,
                          const Eigen::Vector3f& view_direction = default_view_direction());
 

@@ -26,6 +26,9 @@ struct RenderMesh {
   /// drawn (pose and colour may change), so a renderer uploads them once and keeps them.
   /// 0: uploaded again on every frame (fine for small or changing meshes).
   std::uint64_t geometry_id = 0;
+  /// Counted when a default camera frames the scene (frame_scene). Set false for parts that
+  /// should not pull the view away from the work site, e.g. a long instrument shaft.
+  bool include_in_framing = true;
 };
 
 /// Particles drawn as lit spheres (or sprites), one colour per particle.
@@ -56,12 +59,21 @@ struct RenderGround {
   float grid_spacing_m = 0.01f;  ///< distance between grid lines (m); 0: no grid
 };
 
+/// Shadows of the key light (a depth map from the light's side), a cue to how high the
+/// instrument is above the material. Translucent meshes and the ground cast none.
+struct RenderShadows {
+  bool enabled = true;
+  bool particles_cast = true;  ///< particles cast shadows too (a second pass over them)
+  int map_size_px = 1024;      ///< side of the square depth map; more is sharper and slower
+};
+
 struct RenderScene {
   std::vector<RenderMesh> meshes;   ///< opaque first, translucent drawn after, back to front
   RenderParticles particles;
   RenderCamera camera;
   Eigen::Vector3f background = Eigen::Vector3f(0.12f, 0.13f, 0.16f);
   RenderGround ground;
+  RenderShadows shadows;
 };
 
 }  // namespace acdr

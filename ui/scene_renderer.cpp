@@ -29,6 +29,23 @@ const vec3 kFillColor = vec3(0.60, 0.68, 0.85) * 0.35;
 const vec3 kSkyAmbient = vec3(0.26, 0.28, 0.32);
 const vec3 kGroundAmbient = vec3(0.07, 0.065, 0.06);
 
+// Key-light shadows: the depth map seen from the light, and the matrix taking a view-space
+// position to its coordinates there (0..1 in x, y and depth).
+uniform sampler2DShadow u_shadow_map;
+uniform mat4 u_view_to_shadow;
+uniform float u_shadow_on;         // 0 or 1
+uniform float u_shadow_offset;     // along the normal, m: keeps surfaces out of their own shadow
+uniform float u_shadow_bias;       // in map depth units
+
+// 1 where the key light reaches the point, 0 in shadow; the comparison sampler's linear filter
+// blends the four nearest map texels (a 2 x 2 percentage-closer filter).
+float key_visibility(vec3 pos_view, vec3 n) {
+  if (u_shadow_on < 0.5) return 1.0;
+  vec4 s = u_view_to_shadow * vec4(pos_view + u_shadow_offset * n, 1.0);
+  if (any(lessThan(s.xyz, vec3(0.0))) || any(greaterThan(s.xyz, vec3(1.0)))) return 1.0;
+  return texture(u_shadow_map, vec3(s.xy, s.z - u_shadow_bias));
+}
+
 vec3 to_linear(vec3 srgb) { return srgb * srgb; }
 
 // `base` is the surface colour in linear space (to_linear of an sRGB colour).
@@ -37,6 +54,7 @@ vec3 shade_linear(vec3 base, vec3 n, vec3 pos_view, float specular) {
   float hemi = 0.5 + 0.5 * dot(n, u_up_dir);
   vec3 color = base * mix(kGroundAmbient, kSkyAmbient, hemi);
   float key = max(dot(n, u_key_dir), 0.0);
+  if (key > 0.0) key *= key_visibility(pos_view, n);
   color += base * kKeyColor * key;
   color += base * kFillColor * max(dot(n, u_fill_dir), 0.0);
   // Blinn-Phong highlight of the key light only, and only on the lit side.
@@ -189,6 +207,42 @@ void main() {
 }
 )";
 
+// Shadow pass: depth as seen from the key light (orthographic). Meshes as they are; particles
+// as discs facing the light with the depth of the sphere's surface, so they shade each other.
+const char* kShadowMeshVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_light_vp;
+uniform mat4 u_model;
+void main() { gl_Position = u_light_vp * (u_model * vec4(a_position, 1.0)); }
+)";
+
+const char* kShadowMeshFragment = R"(#version 330 core
+void main() {}
+)";
+
+const char* kShadowParticleVertex = R"(#version 330 core
+layout(location = 1) in vec3 a_center;
+uniform mat4 u_light_vp;
+uniform float u_point_scale;  // map pixels per metre
+uniform float u_radius;
+void main() {
+  gl_Position = u_light_vp * vec4(a_center, 1.0);
+  gl_PointSize = 2.0 * u_radius * u_point_scale + 1.0;
+}
+)";
+
+const char* kShadowParticleFragment = R"(#version 330 core
+uniform float u_radius;
+uniform float u_depth_per_m;  // map depth units per metre along the light
+void main() {
+  vec2 d = 2.0 * gl_PointCoord - 1.0;
+  float rr = dot(d, d);
+  if (rr > 1.0) discard;
+  // The sphere's near surface is r * sqrt(1 - rr) closer to the light than its centre.
+  gl_FragDepth = gl_FragCoord.z - u_radius * sqrt(1.0 - rr) * u_depth_per_m;
+}
+)";
+
 // The ground: a square in the plane z = h; a grid whose lines keep one pixel's width at any
 // distance (screen-space derivatives) and a fade to the background with distance.
 const char* kGroundVertex = R"(#version 330 core
@@ -219,7 +273,7 @@ void main() {
     vec2 coord = v_world.xy / u_grid_spacing;
     vec2 dist = abs(fract(coord - 0.5) - 0.5) / max(fwidth(coord), vec2(1e-6));
     float line = 1.0 - min(min(dist.x, dist.y), 1.0);
-    base *= 1.0 - 0.35 * line;
+    base *= 1.0 - 0.25 * line;
   }
   vec3 n = u_up_dir;
   if (!gl_FrontFacing) n = -n;
@@ -233,6 +287,9 @@ void main() {
 const Eigen::Vector3f kKeyDirView = Eigen::Vector3f(-0.45f, 0.70f, 0.55f).normalized();
 const Eigen::Vector3f kFillDirView = Eigen::Vector3f(0.70f, -0.15f, 0.60f).normalized();
 
+// The texture unit of the shadow map (unit 0 stays free for ImGui and other overlays).
+constexpr int kShadowTextureUnit = 1;
+
 // Packed particle instance: centre (3 floats, m) + colour (4 unsigned bytes).
 constexpr std::size_t kInstanceBytes = 16;
 
@@ -241,6 +298,10 @@ std::uint8_t to_byte(float c) {
 }
 
 }  // namespace
+
+Eigen::Vector3f key_light_direction(const RenderCamera& camera) {
+  return (view_matrix(camera).block<3, 3>(0, 0).transpose() * kKeyDirView).normalized();
+}
 
 std::unique_ptr<SceneRenderer> SceneRenderer::create(const GlFunctions& gl, std::string* error) {
   const std::vector<std::string> absent = gl.missing();
@@ -257,9 +318,13 @@ bool SceneRenderer::build_program(Program& program, const char* vertex_src,
                                   const char* fragment_src, const char* name,
                                   std::string* error, const char* fragment_prelude) {
   // Fragment shaders share the lighting code, inserted after the version line and any
-  // extension directives (which must come first).
+  // extension directives (which must come first); complete shaders (starting with their own
+  // #version, as in the shadow pass) are taken as they are.
+  const bool complete = std::string(fragment_src).rfind("#version", 0) == 0;
   const std::string fragment =
-      std::string("#version 330 core\n") + fragment_prelude + kLightingGlsl + fragment_src;
+      complete ? std::string(fragment_src)
+               : std::string("#version 330 core\n") + fragment_prelude + kLightingGlsl +
+                     fragment_src;
   const char* sources[2] = {vertex_src, fragment.c_str()};
   const GLenum kinds[2] = {GL_VERTEX_SHADER, GL_FRAGMENT_SHADER};
   GLuint shaders[2] = {0, 0};
@@ -317,6 +382,14 @@ bool SceneRenderer::build_program(Program& program, const char* vertex_src,
   program.ground_rgb = gl_.GetUniformLocation(id, "u_ground_rgb");
   program.grid_spacing = gl_.GetUniformLocation(id, "u_grid_spacing");
   program.viewport = gl_.GetUniformLocation(id, "u_viewport");
+  program.shadow_map = gl_.GetUniformLocation(id, "u_shadow_map");
+  program.view_to_shadow = gl_.GetUniformLocation(id, "u_view_to_shadow");
+  program.shadow_on = gl_.GetUniformLocation(id, "u_shadow_on");
+  program.shadow_offset = gl_.GetUniformLocation(id, "u_shadow_offset");
+  program.shadow_bias = gl_.GetUniformLocation(id, "u_shadow_bias");
+  program.light_vp = gl_.GetUniformLocation(id, "u_light_vp");
+  program.point_scale = gl_.GetUniformLocation(id, "u_point_scale");
+  program.depth_per_m = gl_.GetUniformLocation(id, "u_depth_per_m");
   return true;
 }
 
@@ -328,7 +401,11 @@ bool SceneRenderer::init(std::string* error) {
                      "particle (quads)", error, kParticleFragmentPrelude)) {
     return false;
   }
-  if (!build_program(ground_program_, kGroundVertex, kGroundFragment, "ground", error)) {
+  if (!build_program(ground_program_, kGroundVertex, kGroundFragment, "ground", error) ||
+      !build_program(shadow_mesh_program_, kShadowMeshVertex, kShadowMeshFragment,
+                     "shadow (meshes)", error) ||
+      !build_program(shadow_particle_program_, kShadowParticleVertex, kShadowParticleFragment,
+                     "shadow (particles)", error)) {
     return false;
   }
   float point_range[2] = {1.0f, 1.0f};
@@ -391,10 +468,11 @@ SceneRenderer::~SceneRenderer() {
   gl_.DeleteBuffers(3, buffers);
   const GLuint arrays[3] = {particle_point_vao_, particle_quad_vao_, ground_vao_};
   gl_.DeleteVertexArrays(3, arrays);
-  for (const Program* p :
-       {&mesh_program_, &particle_point_program_, &particle_quad_program_, &ground_program_}) {
+  for (const Program* p : {&mesh_program_, &particle_point_program_, &particle_quad_program_,
+                           &ground_program_, &shadow_mesh_program_, &shadow_particle_program_}) {
     if (p->id) gl_.DeleteProgram(p->id);
   }
+  destroy_shadow_map();
 }
 
 void SceneRenderer::destroy_mesh(GpuMesh& mesh) {
@@ -505,6 +583,11 @@ void SceneRenderer::set_lighting_uniforms(const Program& program, const Eigen::M
   gl_.Uniform3f(program.key_dir, kKeyDirView.x(), kKeyDirView.y(), kKeyDirView.z());
   gl_.Uniform3f(program.fill_dir, kFillDirView.x(), kFillDirView.y(), kFillDirView.z());
   gl_.Uniform3f(program.up_dir, up.x(), up.y(), up.z());
+  gl_.Uniform1i(program.shadow_map, kShadowTextureUnit);
+  gl_.Uniform1f(program.shadow_on, shadow_.active ? 1.0f : 0.0f);
+  gl_.UniformMatrix4fv(program.view_to_shadow, 1, GL_FALSE, shadow_.view_to_shadow.data());
+  gl_.Uniform1f(program.shadow_offset, shadow_.normal_offset_m);
+  gl_.Uniform1f(program.shadow_bias, shadow_.depth_bias);
 }
 
 void SceneRenderer::draw_mesh(const RenderMesh& mesh, const GpuMesh& gpu,
@@ -523,9 +606,10 @@ void SceneRenderer::draw_mesh(const RenderMesh& mesh, const GpuMesh& gpu,
   gl_.DrawElements(GL_TRIANGLES, gpu.index_count, GL_UNSIGNED_INT, nullptr);
 }
 
-void SceneRenderer::draw_particles(const RenderParticles& particles, const Eigen::Matrix4f& view,
-                                   const Eigen::Matrix4f& proj, int width, int height,
-                                   RenderStats& stats) {
+std::size_t SceneRenderer::upload_particles(const RenderParticles& particles,
+                                           const Eigen::Matrix4f& view,
+                                           const Eigen::Matrix4f& proj, int height,
+                                           bool* as_points) {
   // Pack the visible particles (alpha > 0) into the instance stream, and find the largest
   // screen square any of them needs (the same estimate as the point vertex shader).
   const std::size_t n = particles.positions.size();
@@ -556,12 +640,21 @@ void SceneRenderer::draw_particles(const RenderParticles& particles, const Eigen
     dst[15] = 255;
     ++count;
   }
-  stats.particles = static_cast<int>(count);
-  if (count == 0 || !(radius > 0.0f)) return;
-
   // Points when every sprite fits the point size limit, else quads (a close-up view).
-  const bool as_points = largest_point_px <= max_point_size_px_;
-  stats.particles_as_points = as_points;
+  *as_points = largest_point_px <= max_point_size_px_;
+  if (count == 0 || !(radius > 0.0f)) return 0;
+  gl_.BindBuffer(GL_ARRAY_BUFFER, particle_instance_vbo_);
+  // Orphan and refill: the GL may still read last frame's data.
+  gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(count * kInstanceBytes),
+                 instance_bytes_.data(), GL_STREAM_DRAW);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, 0);
+  return count;
+}
+
+void SceneRenderer::draw_particles(float radius, std::size_t count, bool as_points,
+                                   const Eigen::Matrix4f& view, const Eigen::Matrix4f& proj,
+                                   int width, int height) {
+  if (count == 0) return;
   const Program& program = as_points ? particle_point_program_ : particle_quad_program_;
   gl_.UseProgram(program.id);
   gl_.UniformMatrix4fv(program.view, 1, GL_FALSE, view.data());
@@ -570,11 +663,6 @@ void SceneRenderer::draw_particles(const RenderParticles& particles, const Eigen
   gl_.Uniform1f(program.radius, radius);
   gl_.Uniform4f(program.viewport, 0.0f, 0.0f, static_cast<float>(width),
                 static_cast<float>(height));
-  gl_.BindBuffer(GL_ARRAY_BUFFER, particle_instance_vbo_);
-  // Orphan and refill: the GL may still read last frame's data.
-  gl_.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(count * kInstanceBytes),
-                 instance_bytes_.data(), GL_STREAM_DRAW);
-  gl_.BindBuffer(GL_ARRAY_BUFFER, 0);
   if (as_points) {
     gl_.Enable(GL_PROGRAM_POINT_SIZE);
     gl_.BindVertexArray(particle_point_vao_);
@@ -586,12 +674,136 @@ void SceneRenderer::draw_particles(const RenderParticles& particles, const Eigen
   }
 }
 
-void SceneRenderer::draw_ground(const RenderScene& scene, const Eigen::Matrix4f& view,
-                                const Eigen::Matrix4f& proj) {
-  const std::optional<Bounds3f> bounds = scene_bounds(scene);
-  if (!bounds) return;
+bool SceneRenderer::ensure_shadow_map(int size) {
+  if (shadow_texture_ && shadow_map_size_ == size) return true;
+  destroy_shadow_map();
+  gl_.GenTextures(1, &shadow_texture_);
+  gl_.BindTexture(GL_TEXTURE_2D, shadow_texture_);
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24, size, size, 0, GL_DEPTH_COMPONENT,
+                 GL_UNSIGNED_INT, nullptr);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  gl_.BindTexture(GL_TEXTURE_2D, 0);
+  gl_.GenFramebuffers(1, &shadow_fbo_);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+  gl_.FramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadow_texture_,
+                           0);
+  gl_.DrawBuffer(GL_NONE);
+  gl_.ReadBuffer(GL_NONE);
+  const bool complete = gl_.CheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (!complete) {
+    destroy_shadow_map();
+    return false;
+  }
+  shadow_map_size_ = size;
+  return true;
+}
+
+void SceneRenderer::destroy_shadow_map() {
+  if (shadow_fbo_) gl_.DeleteFramebuffers(1, &shadow_fbo_);
+  if (shadow_texture_) gl_.DeleteTextures(1, &shadow_texture_);
+  shadow_fbo_ = shadow_texture_ = 0;
+  shadow_map_size_ = 0;
+}
+
+void SceneRenderer::draw_shadow_map(const RenderScene& scene, const Bounds3f& bounds,
+                                    const Eigen::Matrix4f& view,
+                                    const std::vector<MeshDraw>& opaque,
+                                    std::size_t particle_count) {
+  shadow_.active = false;
+  // Remember the caller's framebuffer and viewport (a window's, or a multisampled target)
+  // before anything here binds another.
+  GLint previous_fbo = 0;
+  GLint previous_viewport[4] = {0, 0, 1, 1};
+  gl_.GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
+  gl_.GetIntegerv(GL_VIEWPORT, previous_viewport);
+  const int size = std::clamp(scene.shadows.map_size_px, 64, 8192);
+  const bool ready = ensure_shadow_map(size);
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+  if (!ready) return;
+
+  // An orthographic view along the key light, enclosing the scene's bounding sphere; the far
+  // plane reaches well past it so shadows falling on the ground below are kept.
+  const Eigen::Vector3f center = 0.5f * (bounds.min + bounds.max);
+  const float radius = std::max(0.5f * (bounds.max - bounds.min).norm(), 1e-4f);
+  const Eigen::Vector3f to_light = key_light_direction(scene.camera);
+  RenderCamera light;
+  light.target = center;
+  light.eye = center + 2.0f * radius * to_light;
+  light.up = std::abs(to_light.z()) > 0.99f ? Eigen::Vector3f::UnitY() : Eigen::Vector3f::UnitZ();
+  const float near_m = 0.5f * radius, far_m = 7.0f * radius;
+  Eigen::Matrix4f ortho = Eigen::Matrix4f::Identity();
+  ortho(0, 0) = 1.0f / radius;
+  ortho(1, 1) = 1.0f / radius;
+  ortho(2, 2) = -2.0f / (far_m - near_m);
+  ortho(2, 3) = -(far_m + near_m) / (far_m - near_m);
+  const Eigen::Matrix4f light_vp = ortho * view_matrix(light);
+
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+  gl_.Viewport(0, 0, size, size);
+  // Depth writes happen only with the depth test on (a fresh context has it off).
+  gl_.Enable(GL_DEPTH_TEST);
+  gl_.DepthFunc(GL_LESS);
+  gl_.DepthMask(GL_TRUE);
+  gl_.Disable(GL_BLEND);
+  gl_.Disable(GL_CULL_FACE);
+  gl_.Disable(GL_SCISSOR_TEST);
+  gl_.Clear(GL_DEPTH_BUFFER_BIT);
+  // Slope-scaled offset keeps lit faces from shadowing themselves (acne).
+  gl_.Enable(GL_POLYGON_OFFSET_FILL);
+  gl_.PolygonOffset(2.0f, 4.0f);
+  gl_.UseProgram(shadow_mesh_program_.id);
+  gl_.UniformMatrix4fv(shadow_mesh_program_.light_vp, 1, GL_FALSE, light_vp.data());
+  for (const MeshDraw& d : opaque) {
+    const Eigen::Matrix4f model = d.mesh->pose.matrix();
+    gl_.UniformMatrix4fv(shadow_mesh_program_.model, 1, GL_FALSE, model.data());
+    gl_.BindVertexArray(d.gpu->vao);
+    gl_.DrawElements(GL_TRIANGLES, d.gpu->index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  gl_.Disable(GL_POLYGON_OFFSET_FILL);
+  const float pixels_per_m = 0.5f * static_cast<float>(size) / radius;
+  const float particle_px = 2.0f * scene.particles.radius_m * pixels_per_m + 1.0f;
+  if (scene.shadows.particles_cast && particle_count > 0 && particle_px <= max_point_size_px_) {
+    gl_.UseProgram(shadow_particle_program_.id);
+    gl_.UniformMatrix4fv(shadow_particle_program_.light_vp, 1, GL_FALSE, light_vp.data());
+    gl_.Uniform1f(shadow_particle_program_.point_scale, pixels_per_m);
+    gl_.Uniform1f(shadow_particle_program_.radius, scene.particles.radius_m);
+    gl_.Uniform1f(shadow_particle_program_.depth_per_m, 1.0f / (far_m - near_m));
+    gl_.Enable(GL_PROGRAM_POINT_SIZE);
+    gl_.BindVertexArray(particle_point_vao_);
+    gl_.DrawArrays(GL_POINTS, 0, static_cast<GLsizei>(particle_count));
+    gl_.Disable(GL_PROGRAM_POINT_SIZE);
+  }
+  gl_.BindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+  gl_.Viewport(previous_viewport[0], previous_viewport[1], previous_viewport[2],
+               previous_viewport[3]);
+
+  // Receivers look up view-space positions: view -> world -> light clip -> 0..1.
+  Eigen::Matrix4f to_unit = Eigen::Matrix4f::Identity();
+  to_unit.block<3, 3>(0, 0) *= 0.5f;
+  to_unit.block<3, 1>(0, 3).setConstant(0.5f);
+  shadow_.view_to_shadow = to_unit * light_vp * view.inverse();
+  const float texel_m = 2.0f * radius / static_cast<float>(size);
+  shadow_.normal_offset_m = 1.5f * texel_m;
+  shadow_.depth_bias = 1.0f * texel_m / (far_m - near_m);
+  shadow_.active = true;
+  gl_.ActiveTexture(GL_TEXTURE0 + kShadowTextureUnit);
+  gl_.BindTexture(GL_TEXTURE_2D, shadow_texture_);
+  gl_.ActiveTexture(GL_TEXTURE0);
+}
+
+void SceneRenderer::draw_ground(const RenderScene& scene, const Bounds3f& scene_box,
+                                const Eigen::Matrix4f& view, const Eigen::Matrix4f& proj) {
+  const Bounds3f* bounds = &scene_box;
   const Eigen::Vector3f size = bounds->max - bounds->min;
-  const float extent = std::max({size.x(), size.y(), size.z(), 1e-3f});
+  // The plane's reach follows the scene's footprint, so a tall thin part (an instrument held
+  // high) does not spread the grid far beyond the work site.
+  const float extent = std::max({size.x(), size.y(), 0.25f * size.z(), 1e-3f});
   // Just under the lowest point, so the plane never cuts through a floor drawn by the scene.
   const float height = std::isfinite(scene.ground.height_m)
                            ? scene.ground.height_m
@@ -631,6 +843,45 @@ RenderStats SceneRenderer::render(const RenderScene& scene, int width, int heigh
   ++frame_;
   width = std::max(width, 1);
   height = std::max(height, 1);
+  const float aspect = static_cast<float>(width) / static_cast<float>(height);
+  const Eigen::Matrix4f view = view_matrix(scene.camera);
+  const Eigen::Matrix4f proj = projection_matrix(scene.camera, aspect);
+
+  // Geometry first: every mesh on the GPU (cached or streamed), the particles packed. Streamed
+  // (id 0) meshes get their slots up front, so pointers into stream_ stay valid.
+  std::size_t streamed = 0;
+  for (const RenderMesh& mesh : scene.meshes) streamed += mesh.geometry_id == 0 ? 1 : 0;
+  if (stream_.size() < streamed) stream_.resize(streamed);
+  std::size_t stream_slot = 0;
+  std::vector<MeshDraw> opaque, translucent;
+  for (const RenderMesh& mesh : scene.meshes) {
+    const GpuMesh* gpu = gpu_mesh_for(mesh, &stream_slot);
+    if (!gpu) {
+      ++stats.skipped_meshes;
+      continue;
+    }
+    if (!(mesh.rgba.w() > 0.0f)) continue;  // fully transparent: nothing to draw
+    stats.triangles += gpu->index_count / 3;
+    if (mesh.rgba.w() < 1.0f) {
+      const Eigen::Vector3f center = mesh.pose * gpu->local_center;
+      translucent.push_back({(view * center.homogeneous()).z(), &mesh, gpu});
+    } else {
+      opaque.push_back({0.0f, &mesh, gpu});
+    }
+  }
+  bool as_points = true;
+  const std::size_t particle_count =
+      upload_particles(scene.particles, view, proj, height, &as_points);
+  stats.particles = static_cast<int>(particle_count);
+  stats.particles_as_points = as_points;
+  const std::optional<Bounds3f> bounds = scene_bounds(scene);
+
+  // The key light's shadow map, drawn into its own framebuffer before the frame.
+  shadow_.active = false;
+  if (scene.shadows.enabled && bounds) {
+    draw_shadow_map(scene, *bounds, view, opaque, particle_count);
+  }
+  stats.shadows = shadow_.active;
 
   gl_.Viewport(0, 0, width, height);
   gl_.Disable(GL_SCISSOR_TEST);
@@ -644,71 +895,47 @@ RenderStats SceneRenderer::render(const RenderScene& scene, int width, int heigh
   gl_.ClearDepth(1.0);
   gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-  const float aspect = static_cast<float>(width) / static_cast<float>(height);
-  const Eigen::Matrix4f view = view_matrix(scene.camera);
-  const Eigen::Matrix4f proj = projection_matrix(scene.camera, aspect);
-
-  // Streamed (id 0) meshes get slots up front, so pointers into stream_ stay valid below.
-  std::size_t streamed = 0;
-  for (const RenderMesh& mesh : scene.meshes) streamed += mesh.geometry_id == 0 ? 1 : 0;
-  if (stream_.size() < streamed) stream_.resize(streamed);
-  std::size_t stream_slot = 0;
-
-  // Opaque meshes, in the order given; translucent ones are set aside with their view depth.
+  // Opaque meshes in the order given.
   gl_.UseProgram(mesh_program_.id);
   gl_.UniformMatrix4fv(mesh_program_.view, 1, GL_FALSE, view.data());
   gl_.UniformMatrix4fv(mesh_program_.proj, 1, GL_FALSE, proj.data());
   set_lighting_uniforms(mesh_program_, view);
-  struct Deferred {
-    float view_z;
-    const RenderMesh* mesh;
-    const GpuMesh* gpu;
-  };
-  std::vector<Deferred> translucent;
-  for (const RenderMesh& mesh : scene.meshes) {
-    const GpuMesh* gpu = gpu_mesh_for(mesh, &stream_slot);
-    if (!gpu || !(mesh.rgba.w() > 0.0f)) {
-      stats.skipped_meshes += gpu ? 0 : 1;
-      continue;
-    }
-    stats.triangles += gpu->index_count / 3;
-    if (mesh.rgba.w() < 1.0f) {
-      const Eigen::Vector3f center = mesh.pose * gpu->local_center;
-      translucent.push_back({(view * center.homogeneous()).z(), &mesh, gpu});
-      continue;
-    }
-    draw_mesh(mesh, *gpu, view);
-    ++stats.opaque_meshes;
-  }
+  for (const MeshDraw& d : opaque) draw_mesh(*d.mesh, *d.gpu, view);
+  stats.opaque_meshes = static_cast<int>(opaque.size());
 
   // Particles: opaque, depth-tested against the meshes.
-  draw_particles(scene.particles, view, proj, width, height, stats);
+  draw_particles(scene.particles.radius_m, particle_count, as_points, view, proj, width, height);
 
-  if (scene.ground.visible) draw_ground(scene, view, proj);
+  if (scene.ground.visible && bounds) draw_ground(scene, *bounds, view, proj);
 
   // Translucent meshes back to front (most negative view z first), depth writes off so they
   // do not hide each other; each drawn inside-out first, then its front, so a convex zone shows
   // its far wall through its near one.
   if (!translucent.empty()) {
     std::stable_sort(translucent.begin(), translucent.end(),
-                     [](const Deferred& a, const Deferred& b) { return a.view_z < b.view_z; });
+                     [](const MeshDraw& a, const MeshDraw& b) { return a.view_z < b.view_z; });
     gl_.UseProgram(mesh_program_.id);
     gl_.Enable(GL_BLEND);
     gl_.BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
     gl_.DepthMask(GL_FALSE);
     gl_.Enable(GL_CULL_FACE);
-    for (const Deferred& d : translucent) {
+    for (const MeshDraw& d : translucent) {
       gl_.CullFace(GL_FRONT);
       draw_mesh(*d.mesh, *d.gpu, view);
       gl_.CullFace(GL_BACK);
       draw_mesh(*d.mesh, *d.gpu, view);
-      ++stats.translucent_meshes;
     }
+    stats.translucent_meshes = static_cast<int>(translucent.size());
     gl_.Disable(GL_CULL_FACE);
     gl_.Disable(GL_BLEND);
     gl_.DepthMask(GL_TRUE);
   }
 
+  if (shadow_.active) {
+    gl_.ActiveTexture(GL_TEXTURE0 + kShadowTextureUnit);
+    gl_.BindTexture(GL_TEXTURE_2D, 0);
+    gl_.ActiveTexture(GL_TEXTURE0);
+  }
   gl_.FrontFace(GL_CCW);
   gl_.BindVertexArray(0);
   gl_.UseProgram(0);

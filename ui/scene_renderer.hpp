@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ui/gl_functions.hpp"
+#include "ui/render_camera.hpp"
 #include "ui/render_scene.hpp"
 
 namespace acdr {
@@ -23,10 +24,15 @@ struct RenderStats {
   int skipped_meshes = 0;      ///< meshes with no valid triangle (bad indices, empty)
   int particles = 0;           ///< particles drawn (hidden ones excluded)
   bool particles_as_points = false;  ///< point sprites (true) or instanced quads (close-ups)
+  bool shadows = false;        ///< the key light's shadow map was drawn and applied
   int triangles = 0;           ///< mesh triangles submitted (both translucent passes count once)
   double cpu_ms = 0.0;         ///< wall time spent in render() on the CPU (GPU may still run)
   std::string gl_error;        ///< non-empty when the GL reported an error during the frame
 };
+
+/// Unit direction towards the key light in world coordinates for a camera: the light rides
+/// with the camera (upper left, in front), so shadows fall down and to the right in the view.
+Eigen::Vector3f key_light_direction(const RenderCamera& camera);
 
 class SceneRenderer {
  public:
@@ -61,12 +67,28 @@ class SceneRenderer {
     GLint key_dir = -1, fill_dir = -1, up_dir = -1, radius = -1;
     GLint ground_center = -1, ground_extent = -1, ground_rgb = -1, grid_spacing = -1;
     GLint fade_radius = -1, viewport = -1;
+    GLint shadow_map = -1, view_to_shadow = -1, shadow_on = -1, shadow_offset = -1;
+    GLint shadow_bias = -1, light_vp = -1, point_scale = -1, depth_per_m = -1;
   };
   struct GpuMesh {
     GLuint vao = 0, vbo = 0, ebo = 0;
     GLsizei index_count = 0;
     Eigen::Vector3f local_center = Eigen::Vector3f::Zero();  ///< centre of the local bounds
     std::uint64_t last_frame = 0;
+  };
+
+  // A mesh ready to draw this frame, with its depth in view space (for sorting translucent).
+  struct MeshDraw {
+    float view_z;
+    const RenderMesh* mesh;
+    const GpuMesh* gpu;
+  };
+  // The shadow map's state for the frame being drawn.
+  struct ShadowState {
+    bool active = false;
+    Eigen::Matrix4f view_to_shadow = Eigen::Matrix4f::Identity();
+    float normal_offset_m = 0.0f;
+    float depth_bias = 0.0f;
   };
 
   explicit SceneRenderer(const GlFunctions& gl) : gl_(gl) {}
@@ -80,10 +102,20 @@ class SceneRenderer {
   GpuMesh* gpu_mesh_for(const RenderMesh& mesh, std::size_t* stream_slot);
   void set_lighting_uniforms(const Program& program, const Eigen::Matrix4f& view);
   void draw_mesh(const RenderMesh& mesh, const GpuMesh& gpu, const Eigen::Matrix4f& view);
-  void draw_particles(const RenderParticles& particles, const Eigen::Matrix4f& view,
-                      const Eigen::Matrix4f& proj, int width, int height, RenderStats& stats);
-  void draw_ground(const RenderScene& scene, const Eigen::Matrix4f& view,
+  // Packs the visible particles into the instance buffer; returns how many, and whether they
+  // fit as point sprites.
+  std::size_t upload_particles(const RenderParticles& particles, const Eigen::Matrix4f& view,
+                               const Eigen::Matrix4f& proj, int height, bool* as_points);
+  void draw_particles(float radius, std::size_t count, bool as_points,
+                      const Eigen::Matrix4f& view, const Eigen::Matrix4f& proj, int width,
+                      int height);
+  void draw_ground(const RenderScene& scene, const Bounds3f& bounds, const Eigen::Matrix4f& view,
                    const Eigen::Matrix4f& proj);
+  bool ensure_shadow_map(int size);
+  void destroy_shadow_map();
+  void draw_shadow_map(const RenderScene& scene, const Bounds3f& bounds,
+                       const Eigen::Matrix4f& view, const std::vector<MeshDraw>& opaque,
+                       std::size_t particle_count);
   void evict_stale_geometry();
 
   GlFunctions gl_;
@@ -91,6 +123,11 @@ class SceneRenderer {
   Program particle_point_program_;
   Program particle_quad_program_;
   Program ground_program_;
+  Program shadow_mesh_program_;
+  Program shadow_particle_program_;
+  GLuint shadow_fbo_ = 0, shadow_texture_ = 0;
+  int shadow_map_size_ = 0;
+  ShadowState shadow_;
   std::unordered_map<std::uint64_t, GpuMesh> cache_;  ///< by RenderMesh::geometry_id
   std::vector<GpuMesh> stream_;                        ///< reused slots for id-0 meshes
   GLuint particle_point_vao_ = 0, particle_quad_vao_ = 0;

@@ -47,6 +47,18 @@ TEST(OffscreenRender, WritesAPngThatDecodesToTheRenderedScene) {
   EXPECT_GT(image.fraction_in_window(*px, 2, test::is_nucleus_yellow), 0.6);
 }
 
+TEST(OffscreenRender, TheFirstFrameOfANewRendererIsLikeTheNext) {
+  // Resources made on first use (shadow map, cached meshes) must not disturb that frame.
+  const RenderScene scene = make_sample_scene(500, 1.5f);
+  std::string error;
+  auto renderer = OffscreenRenderer::create(192, 128, &error);
+  ASSERT_TRUE(renderer) << error;
+  std::vector<std::uint8_t> first, second;
+  ASSERT_TRUE(renderer->render(scene, &first, &error)) << error;
+  ASSERT_TRUE(renderer->render(scene, &second, &error)) << error;
+  EXPECT_EQ(first, second);
+}
+
 TEST(OffscreenRender, ReportsABadImageSizeAndAnUnwritablePath) {
   const RenderScene scene = make_sample_scene(10);
   std::string error;

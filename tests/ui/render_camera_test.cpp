@@ -89,5 +89,20 @@ TEST(RenderCamera, SceneBoundsCoverMeshesAndVisibleParticles) {
   EXPECT_FALSE(scene_bounds(RenderScene()));
 }
 
+TEST(RenderCamera, FrameSceneLeavesOutMeshesExcludedFromFraming) {
+  RenderScene scene;
+  scene.meshes.push_back(make_box({0, 0, 0}, {0.02f, 0.02f, 0.02f}));
+  scene.meshes.push_back(make_cylinder({0.01f, 0.01f, 0.03f}, {0.01f, 0.01f, 0.2f}, 0.001f));
+  const RenderCamera all = frame_scene(scene, 1.0f);
+  scene.meshes[1].include_in_framing = false;
+  const RenderCamera site = frame_scene(scene, 1.0f);
+  // Framing the box alone brings the camera much closer, centred on the box.
+  EXPECT_LT((site.eye - site.target).norm(), 0.5f * (all.eye - all.target).norm());
+  EXPECT_TRUE(site.target.isApprox(Eigen::Vector3f(0.01f, 0.01f, 0.01f), 1e-5f));
+  // Excluding everything falls back to framing everything.
+  scene.meshes[0].include_in_framing = false;
+  EXPECT_TRUE(frame_scene(scene, 1.0f).eye.isApprox(all.eye, 1e-5f));
+}
+
 }  // namespace
 }  // namespace acdr

@@ -179,6 +179,43 @@ TEST_F(SceneRendererTest, CloseUpsDrawParticlesAsQuads) {
   EXPECT_GT(upper_left.r + upper_left.g, lower_right.r + lower_right.g + 40);
 }
 
+TEST_F(SceneRendererTest, TheInstrumentCastsAShadowOnTheParticles) {
+  RenderScene scene = make_sample_scene(5000, float(kWidth) / kHeight);
+  // Where the key light's ray through the blade's centre meets the top of the particles.
+  const float top = scene.particles.positions.back().z();
+  const Eigen::Vector3f to_light = key_light_direction(scene.camera);
+  ASSERT_GT(to_light.z(), 0.1f);
+  const Eigen::Vector3f c = layout_.blade_center;
+  const Eigen::Vector3f shadow_spot = c - to_light * ((c.z() - top) / to_light.z());
+  ASSERT_TRUE((shadow_spot.head<2>().array() > layout_.block_min.head<2>().array()).all() &&
+              (shadow_spot.head<2>().array() < layout_.block_max.head<2>().array()).all())
+      << "the shadow must fall on the block for this test: " << shadow_spot.transpose();
+  const Eigen::Vector2f px = pixel_of(scene, shadow_spot);
+  RenderStats stats;
+  const Image lit = [&] {
+    RenderScene no_shadows = scene;
+    no_shadows.shadows.enabled = false;
+    return render(no_shadows, &stats);
+  }();
+  EXPECT_FALSE(stats.shadows);
+  const Image shaded = render(scene, &stats);
+  EXPECT_TRUE(stats.shadows);
+  auto brightness = [](const Image& image, const Eigen::Vector2f& p) {
+    int sum = 0;
+    for (int dy = -2; dy <= 2; ++dy) {
+      for (int dx = -2; dx <= 2; ++dx) {
+        const Rgb c = image.at(int(p.x()) + dx, int(p.y()) + dy);
+        sum += c.r + c.g + c.b;
+      }
+    }
+    return sum / 25.0;
+  };
+  EXPECT_LT(brightness(shaded, px), 0.8 * brightness(lit, px)) << "at " << px.transpose();
+  // Particles in the open keep their light (within what their neighbours' shadows take).
+  const Eigen::Vector2f open = pixel_of(scene, {-0.014f, 0.006f, top});
+  EXPECT_GT(brightness(shaded, open), 0.8 * brightness(lit, open));
+}
+
 TEST_F(SceneRendererTest, CachesMeshesWithAGeometryId) {
   const RenderScene scene = make_sample_scene(100, float(kWidth) / kHeight);
   render(scene);

@@ -1,0 +1,73 @@
+// Tests of db/schema.cpp: migrations are ordered and complete, and the schema enforces what
+// the store relies on (foreign keys, allowed statuses, cascades).
+#include "db/schema.hpp"
+
+#include <gtest/gtest.h>
+
+#include "db/database.hpp"
+#include "tests/db/db_test_support.hpp"
+
+namespace acdr {
+namespace {
+
+TEST(Schema, MigrationsAreOrderedOnePerVersion) {
+  const auto migrations = schema_migrations();
+  ASSERT_EQ(static_cast<int>(migrations.size()), kSchemaVersion);
+  for (std::size_t i = 0; i < migrations.size(); ++i) {
+    EXPECT_EQ(migrations[i].version, static_cast<int>(i) + 1);
+    EXPECT_NE(std::string(migrations[i].description), "");
+  }
+}
+
+TEST(Schema, EveryEntityHasItsTable) {
+  test::TempDir dir;
+  Database db = test::open_or_fail(dir.file("record.sqlite"));
+  for (const char* table : {"trainees", "curricula", "modules", "module_prerequisites",
+                            "attempts", "metrics", "events", "recordings", "score_terms",
+                            "score_gates", "score_reasons"}) {
+    DbResult<Statement> s = db.prepare("SELECT count(*) FROM sqlite_schema WHERE name = ?");
+    ASSERT_TRUE(s->bind_all(table).ok());
+    ASSERT_TRUE(s->step().value());
+    EXPECT_EQ(s->column_int64(0), 1) << table;
+  }
+}
+
+TEST(Schema, ConstraintsHold) {
+  test::TempDir dir;
+  Database db = test::open_or_fail(dir.file("record.sqlite"));
+  test::register_curriculum(db, 1);
+  // Foreign keys: no metric without its attempt, no attempt at an unknown module.
+  EXPECT_FALSE(db.exec("INSERT INTO metrics (attempt_id, name, position, value) "
+                       "VALUES (42, 'x', 0, 1.0)")
+                   .ok());
+  EXPECT_FALSE(db.exec("INSERT INTO attempts (uuid, registration, module_id, started_utc, "
+                       "heartbeat_utc, writer_pid, writer_host) "
+                       "VALUES ('u', 'r', 'nope', 't', 't', 1, 'h')")
+                   .ok());
+  // Only the three statuses; a completed attempt must have an end and a pass decision.
+  EXPECT_FALSE(db.exec("INSERT INTO attempts (uuid, registration, module_id, status, "
+                       "started_utc, heartbeat_utc, writer_pid, writer_host) "
+                       "VALUES ('u', 'r', 'm1', 'paused', 't', 't', 1, 'h')")
+                   .ok());
+  EXPECT_FALSE(db.exec("INSERT INTO attempts (uuid, registration, module_id, status, "
+                       "started_utc, heartbeat_utc, writer_pid, writer_host) "
+                       "VALUES ('u', 'r', 'm1', 'completed', 't', 't', 1, 'h')")
+                   .ok());
+  // STRICT: a text where a number belongs is refused, not converted.
+  EXPECT_FALSE(db.exec("UPDATE modules SET position = 'first' WHERE id = 'm1'").ok());
+  EXPECT_FALSE(db.exec("UPDATE modules SET pass_score = x'00' WHERE id = 'm1'").ok());
+
+  // Deleting an attempt takes its children with it.
+  const std::int64_t id = test::add_attempt(db, "t1", "m1", 60, true, test::minute(0));
+  DbResult<Statement> del = db.prepare("DELETE FROM attempts WHERE id = ?");
+  ASSERT_TRUE(del->bind_all(id).ok());
+  ASSERT_TRUE(del->run().ok());
+  DbResult<Statement> left = db.prepare(
+      "SELECT (SELECT count(*) FROM metrics) + (SELECT count(*) FROM events) + "
+      "(SELECT count(*) FROM score_terms)");
+  ASSERT_TRUE(left->step().value());
+  EXPECT_EQ(left->column_int64(0), 0);
+}
+
+}  // namespace
+}  // namespace acdr

@@ -1,0 +1,58 @@
+// Fast versions of the `acdr stress` cases (2 mm spacing): no NaN, no energy growth with
+// nothing driven, no particle through a wall, device force within its limit.
+#include "engine/stress/stress_case.hpp"
+
+#include <cctype>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace acdr {
+namespace {
+
+class StressCase : public ::testing::TestWithParam<StressCaseSpec> {};
+
+TEST_P(StressCase, Passes) {
+  const StressResult r = run_stress_case(GetParam());
+  EXPECT_FALSE(r.nan) << r.nan_stage;
+  EXPECT_FALSE(r.energy_grew) << "energy change " << r.hold_energy_change_J << " J";
+  EXPECT_EQ(r.tunnelled, 0);
+  EXPECT_LE(r.peak_device_force_N, r.device_limit_N * (1.0 + 1e-9));
+  EXPECT_TRUE(r.passed);
+  EXPECT_GT(r.particles, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Fast, StressCase, ::testing::ValuesIn(builtin_stress_cases(true)),
+                         [](const auto& info) {
+                           std::string name = info.param.name;
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+TEST(StressSuite, CoversTheIssueSweeps) {
+  const auto cases = builtin_stress_cases(true);
+  double dt_min = 1, dt_max = 0, k_max = 0, mu_min = 1e9, mu_max = 0, v_max = 0;
+  bool teleport = false, bad = false;
+  for (const auto& c : cases) {
+    dt_min = std::min(dt_min, c.dt_s);
+    dt_max = std::max(dt_max, c.dt_s);
+    k_max = std::max(k_max, c.bond_stiffness_N_m);
+    mu_min = std::min(mu_min, c.viscosity_Pa_s);
+    mu_max = std::max(mu_max, c.viscosity_Pa_s);
+    v_max = std::max(v_max, c.speed_m_s);
+    teleport = teleport || c.teleport;
+    bad = bad || c.bad_input;
+  }
+  EXPECT_LE(dt_min, 0.25e-3);
+  EXPECT_GE(dt_max, 4e-3);
+  EXPECT_GE(k_max, 1e5);
+  EXPECT_LE(mu_min, 1.0);
+  EXPECT_GE(mu_max, 1e4);
+  EXPECT_GE(v_max, 1.0);
+  EXPECT_TRUE(teleport);
+  EXPECT_TRUE(bad);
+}
+
+}  // namespace
+}  // namespace acdr

@@ -1,0 +1,402 @@
+// The scenario loader: a valid file gives the right SI values; each kind of error names the
+// right line and JSON path, with what was found and what was expected.
+#include "scenarios/scenario_loader.hpp"
+
+#include <filesystem>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "scenarios/content_hash.hpp"
+#include "tests/scenarios/scenario_test_support.hpp"
+
+namespace acdr {
+namespace {
+
+using test::box_module_text;
+using test::line_of;
+using test::replace_once;
+
+constexpr double kTol = 1e-12;
+
+/// The errors of loading `text`; the test fails if it loads. Keep the vector alive while using
+/// pointers from find_error.
+std::vector<ScenarioError> errors_of(const std::string& text) {
+  LoadResult r = load_scenario_text(text, "m.json");
+  EXPECT_FALSE(r.ok());
+  EXPECT_EQ(r.model, nullptr);
+  return r.errors;
+}
+
+/// The error at `path`, or a failed expectation listing all errors.
+const ScenarioError* find_error(const std::vector<ScenarioError>& errors, const std::string& path) {
+  for (const ScenarioError& e : errors) {
+    if (e.json_path == path) return &e;
+  }
+  ADD_FAILURE() << "no error at " << path << "; got:\n" << to_string(errors);
+  return nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Valid files
+
+TEST(ScenarioLoader, BoxModuleLoadsWithSiValues) {
+  const std::string text = box_module_text();
+  const LoadResult r = load_scenario_text(text, "box.json");
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  const ScenarioModel& m = *r.model;
+  EXPECT_EQ(m.path, "box.json");
+  EXPECT_EQ(m.hash, fnv1a64_hex(text));
+  EXPECT_EQ(m.format_version, 1);
+  EXPECT_EQ(m.id, "box-warmup");
+  EXPECT_EQ(m.module_order, 1);
+  EXPECT_FALSE(m.goal.empty());
+  EXPECT_DOUBLE_EQ(m.time_limit_s, 60.0);
+
+  const WorldConfig& w = m.world;
+  EXPECT_NEAR(w.gravity_m_s2.z(), -9.80665, kTol);
+  EXPECT_TRUE(w.ground.enabled);
+  EXPECT_NEAR(w.ground.height_m, -0.002, kTol);
+  EXPECT_TRUE(w.box.enabled);
+  EXPECT_TRUE(w.box.inner_min_m.isApprox(Vec3(-0.015, -0.010, 0.0)));
+  EXPECT_TRUE(w.box.inner_max_m.isApprox(Vec3(0.015, 0.010, 0.012)));
+  EXPECT_NEAR(w.box.wall_thickness_m, 0.002, kTol);
+
+  ASSERT_TRUE(w.nucleus.enabled);
+  EXPECT_NEAR(w.nucleus.spacing_m, 0.001, kTol);
+  EXPECT_DOUBLE_EQ(w.nucleus.bond_radius_factor, 1.5);
+  ASSERT_EQ(w.nucleus.materials.size(), 1u);
+  const MaterialConfig& mat = w.nucleus.materials[0];
+  EXPECT_EQ(mat.name, "nucleus");
+  EXPECT_DOUBLE_EQ(mat.density_kg_m3, 1050.0);
+  EXPECT_DOUBLE_EQ(mat.viscosity_Pa_s, 250.0);
+  EXPECT_DOUBLE_EQ(mat.bond_stiffness_N_m, 5.0);
+  EXPECT_NEAR(mat.bond_break_m, 0.3e-3, kTol);
+  EXPECT_TRUE(mat.counts_as_target);
+  ASSERT_EQ(w.nucleus.blocks.size(), 1u);
+  EXPECT_TRUE(w.nucleus.blocks[0].min_m.isApprox(Vec3(-0.015, -0.010, 0.0)));
+  EXPECT_TRUE(w.nucleus.blocks[0].max_m.isApprox(Vec3(0.015, 0.010, 0.008)));
+  EXPECT_EQ(w.nucleus.blocks[0].material, 0);
+
+  const InstrumentConfig& in = w.instrument;
+  EXPECT_TRUE(in.enabled);
+  EXPECT_EQ(in.shape, InstrumentShape::kPrism);
+  EXPECT_TRUE(in.blade_size_m.isApprox(Vec3(0.010, 0.006, 0.002)));
+  EXPECT_NEAR(in.shaft_length_m, 0.080, kTol);
+  EXPECT_NEAR(in.shaft_diameter_m, 0.002, kTol);
+  EXPECT_NEAR(in.yield_stress_Pa, 500e6, 1e-3);
+  EXPECT_DOUBLE_EQ(in.warning_fraction, 0.5);
+  EXPECT_NEAR(in.mass_kg, 0.030, kTol);
+
+  EXPECT_TRUE(w.instrument_start.position.isApprox(Vec3(0.0, 0.0, 0.110)));
+  EXPECT_TRUE(w.instrument_start.orientation.isApprox(Quat::Identity()));
+  EXPECT_DOUBLE_EQ(w.coupling.stiffness_N_m, 500.0);
+  EXPECT_LT(w.coupling.damping_Ns_m, 0.0);  // absent: critically damped
+  EXPECT_EQ(w.device.name, "Touch");
+  EXPECT_DOUBLE_EQ(w.device.max_force_N, 3.3);
+  EXPECT_NEAR(w.solver.dt_s, 1e-3, kTol);
+  EXPECT_EQ(w.solver.substeps, 1);
+  EXPECT_TRUE(w.removal.min_m.isApprox(Vec3(-0.015, -0.010, -0.001)));
+  EXPECT_TRUE(w.removal.max_m.isApprox(Vec3(0.015, 0.010, 0.012)));
+
+  ASSERT_EQ(m.rubric.terms.size(), 2u);
+  EXPECT_EQ(m.rubric.terms[0].metric, "nucleus_removed_fraction");
+  EXPECT_TRUE(m.rubric.terms[0].higher_is_better);
+  EXPECT_EQ(m.rubric.terms[1].metric, "peak_instrument_force_N");
+  EXPECT_FALSE(m.rubric.terms[1].higher_is_better);
+  ASSERT_EQ(m.rubric.gates.size(), 1u);
+  EXPECT_EQ(m.rubric.gates[0].metric, "overload_events");
+  EXPECT_DOUBLE_EQ(m.rubric.gates[0].max, 0.0);
+  EXPECT_DOUBLE_EQ(m.rubric.pass_score, 50.0);
+  EXPECT_EQ(m.rubric.consecutive_passes_to_master, 2);
+}
+
+TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
+  const LoadResult r = load_scenario_file(test::source_path("tests/scenarios/data/complete.json"));
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  const WorldConfig& w = r.model->world;
+  EXPECT_NEAR(w.ground.height_m, -0.003, kTol);
+  EXPECT_NEAR(w.nucleus.spacing_m, 0.0015, kTol);
+  EXPECT_NEAR(w.nucleus.materials[0].bond_break_m, 0.0004, kTol);
+  EXPECT_NEAR(w.nucleus.materials[1].bond_break_m, 0.0002, kTol);
+  EXPECT_FALSE(w.nucleus.materials[1].counts_as_target);
+  EXPECT_EQ(w.nucleus.blocks[1].material, 1);  // by name
+  EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
+  EXPECT_NEAR(w.instrument.mass_kg, 0.045, kTol);
+  EXPECT_NEAR(w.instrument.yield_stress_Pa, 800e6, 1e-3);
+  EXPECT_NEAR(w.instrument.cup_diameter_m, 0.003, kTol);
+  EXPECT_NEAR(w.instrument.cup_depth_m, 0.0015, kTol);
+  EXPECT_NEAR(w.instrument.cup_wall_m, 0.0003, kTol);
+  // 30 degrees about +y.
+  const Quat expected(std::cos(M_PI / 12), 0.0, std::sin(M_PI / 12), 0.0);
+  EXPECT_TRUE(w.instrument_start.orientation.isApprox(expected, 1e-12));
+  EXPECT_DOUBLE_EQ(w.coupling.damping_Ns_m, 4.0);
+  // The preset's force is overridden, its name replaced.
+  EXPECT_EQ(w.device.name, "bench Desktop");
+  EXPECT_DOUBLE_EQ(w.device.max_force_N, 6.0);
+  EXPECT_NEAR(w.device.max_jump_m, 0.02, kTol);
+  EXPECT_NEAR(w.solver.dt_s, 0.0005, kTol);
+  EXPECT_NEAR(w.solver.sleep_speed_m_s, 0.0002, kTol);
+  EXPECT_FALSE(w.solver.sleep_enabled);
+  EXPECT_EQ(r.model->rubric.consecutive_passes_to_master, 3);
+}
+
+TEST(ScenarioLoader, DefaultsApplyWhenKeysAreAbsent) {
+  const std::string text = R"({
+    "format_version": 1, "id": "minimal", "title": "t", "goal": "g",
+    "world": { "instrument": {}, "device": { "max_force_N": 2 } },
+    "rubric": { "terms": [ { "metric": "overload_events", "expert_mean": 0, "expert_sd": 1,
+                             "higher_is_better": false } ],
+                "gates": [ { "metric": "overload_events", "max": 0 } ] } })";
+  const LoadResult r = load_scenario_text(text, "minimal.json");
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  const ScenarioModel& m = *r.model;
+  const InstrumentConfig defaults;
+  EXPECT_TRUE(m.world.instrument.enabled);
+  EXPECT_EQ(m.world.instrument.shape, InstrumentShape::kPrism);
+  EXPECT_EQ(m.world.instrument.shaft_length_m, defaults.shaft_length_m);
+  EXPECT_FALSE(m.world.nucleus.enabled);
+  EXPECT_FALSE(m.world.box.enabled);
+  EXPECT_EQ(m.world.device.name, "custom");
+  EXPECT_DOUBLE_EQ(m.rubric.pass_score, 50.0);
+  EXPECT_EQ(m.rubric.terms[0].weight, 1.0);
+  EXPECT_EQ(m.time_limit_s, 0.0);
+}
+
+TEST(ScenarioLoader, IntegralFloatsCountAsIntegers) {
+  const std::string ok = replace_once(box_module_text(), "\"substeps\": 1", "\"substeps\": 2.0");
+  const LoadResult r = load_scenario_text(ok, "m.json");
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  EXPECT_EQ(r.model->world.solver.substeps, 2);
+  const auto errors = errors_of(replace_once(box_module_text(), "\"substeps\": 1", "\"substeps\": 1.5"));
+  const ScenarioError* e = find_error(errors, "/world/solver/substeps");
+  ASSERT_NE(e, nullptr);
+  EXPECT_NE(e->message.find("got 1.5, expected an integer"), std::string::npos) << e->message;
+}
+
+TEST(ScenarioLoader, ByteOrderMarkIsAccepted) {
+  EXPECT_TRUE(load_scenario_text("\xEF\xBB\xBF" + box_module_text(), "bom.json").ok());
+}
+
+TEST(ScenarioLoader, EveryBundledModuleLoads) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::source_path("scenarios/modules"))) {
+    if (entry.path().extension() != ".json") continue;
+    const LoadResult r = load_scenario_file(entry.path().string());
+    EXPECT_TRUE(r.ok()) << to_string(r.errors);
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Each kind of error
+
+TEST(ScenarioLoaderErrors, UnknownKeySuggestsTheNearestKnownKey) {
+  const std::string text = replace_once(box_module_text(), "\"spacing_mm\": 1", "\"spacnig_mm\": 1");
+  const auto errors = errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << to_string(errors);
+  EXPECT_EQ(errors[0].to_string(),
+            "m.json:" + std::to_string(line_of(text, "spacnig_mm")) +
+                ": /world/nucleus/spacnig_mm: unknown key (did you mean \"spacing_mm\" or \"spacing_m\"?)");
+}
+
+TEST(ScenarioLoaderErrors, UnknownKeyWithoutNearMatchListsTheKnownKeys) {
+  const std::string text = replace_once(box_module_text(), "\"coupling\": { \"stiffness_N_m\": 500 }",
+                                        "\"coupling\": { \"stiffness_N_m\": 500, \"zzz\": 1 }");
+  const auto errors = errors_of(text);
+  const ScenarioError* e = find_error(errors, "/world/coupling/zzz");
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->line, line_of(text, "zzz"));
+  EXPECT_NE(e->message.find("unknown key (expected one of: \"stiffness_N_m\""), std::string::npos);
+}
+
+TEST(ScenarioLoaderErrors, MissingRequiredKeyNamesThePathAndTheParentLine) {
+  // A top-level key: reported at the root object's line.
+  std::string text = replace_once(box_module_text(), "\"format_version\": 1,\n", "");
+  auto errors = errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << to_string(errors);
+  EXPECT_EQ(errors[0].to_string(), "m.json:1: /format_version: missing required key (expected an integer: the format version, 1)");
+
+  // A nested key: at the line of the object that lacks it.
+  text = replace_once(box_module_text(), "{ \"metric\": \"overload_events\", \"max\": 0 }", "{ \"max\": 0 }");
+  errors = errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << to_string(errors);
+  EXPECT_EQ(errors[0].json_path, "/rubric/gates/0/metric");
+  EXPECT_EQ(errors[0].line, line_of(text, "{ \"max\": 0 }"));
+  EXPECT_NE(errors[0].message.find("missing required key"), std::string::npos);
+}
+
+TEST(ScenarioLoaderErrors, WrongTypeSaysWhatWasFoundAndExpected) {
+  const std::string text = replace_once(box_module_text(), "\"dt_ms\": 1", "\"dt_ms\": \"1\"");
+  const auto errors = errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << to_string(errors);
+  EXPECT_EQ(errors[0].to_string(), "m.json:" + std::to_string(line_of(text, "dt_ms")) +
+                                       ": /world/solver/dt_ms: wrong type (got string \"1\", expected a number in ms)");
+}
+
+TEST(ScenarioLoaderErrors, WrongTypeInsideAVector) {
+  const std::string text = replace_once(box_module_text(), "\"position_mm\": [0, 0, 110]",
+                                        "\"position_mm\": [0, null, 110]");
+  const auto errors = errors_of(text);
+  const ScenarioError* e = find_error(errors, "/world/instrument_start/position_mm/1");
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->message, "wrong type (got null, expected a number in mm)");
+}
+
+TEST(ScenarioLoaderErrors, OutOfRangeGivesTheBoundsInTheFileUnit) {
+  const std::string text = replace_once(box_module_text(), "\"spacing_mm\": 1", "\"spacing_mm\": -1");
+  const auto errors = errors_of(text);
+  const ScenarioError* e = find_error(errors, "/world/nucleus/spacing_mm");
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->line, line_of(text, "spacing_mm"));
+  EXPECT_EQ(e->message, "out of range (got -1 mm, expected >= 0.1 mm and <= 10 mm)");
+}
+
+TEST(ScenarioLoaderErrors, RangeChecksOfManyKinds) {
+  std::string text = box_module_text();
+  text = replace_once(text, "\"density_kg_m3\": 1050", "\"density_kg_m3\": -5");
+  text = replace_once(text, "\"viscosity_Pa_s\": 250", "\"viscosity_Pa_s\": -1");
+  text = replace_once(text, "\"inner_max_mm\": [15, 10, 12]", "\"inner_max_mm\": [15, -20, 12]");
+  text = replace_once(text, "\"warning_fraction\": 0.5", "\"warning_fraction\": 1.5");
+  text = replace_once(text, "\"expert_sd\": 0.05", "\"expert_sd\": 0");
+  text = replace_once(text, "\"pass_score\": 50", "\"pass_score\": 101");
+  text = replace_once(text, "\"dt_ms\": 1", "\"dt_ms\": 0");
+  const auto errors = errors_of(text);
+  EXPECT_EQ(errors.size(), 7u) << to_string(errors);
+  for (const char* path : {"/world/nucleus/materials/0/density_kg_m3", "/world/nucleus/materials/0/viscosity_Pa_s",
+                           "/world/box/inner_max_mm", "/world/instrument/warning_fraction",
+                           "/rubric/terms/0/expert_sd", "/rubric/pass_score", "/world/solver/dt_ms"}) {
+    const ScenarioError* e = find_error(errors, path);
+    if (e != nullptr) {
+      EXPECT_GT(e->line, 1) << path;
+    }
+  }
+  // Errors come sorted by line.
+  for (std::size_t i = 1; i < errors.size(); ++i) EXPECT_LE(errors[i - 1].line, errors[i].line);
+}
+
+TEST(ScenarioLoaderErrors, EmptiedArrayIsReported) {
+  const std::string text = replace_once(box_module_text(),
+                                        "\"gates\": [\n      { \"metric\": \"overload_events\", \"max\": 0 }\n    ]",
+                                        "\"gates\": []");
+  const auto errors = errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << to_string(errors);
+  EXPECT_EQ(errors[0].json_path, "/rubric/gates");
+  EXPECT_EQ(errors[0].line, line_of(text, "\"gates\""));
+  EXPECT_EQ(errors[0].message, "too few items (got an array of 0 items, expected at least 1)");
+}
+
+TEST(ScenarioLoaderErrors, MalformedJsonNamesLineAndColumn) {
+  const std::string text = replace_once(box_module_text(), "\"stiffness_N_m\": 500 }", "\"stiffness_N_m\": 500, }");
+  const auto errors = errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << to_string(errors);
+  EXPECT_EQ(errors[0].line, line_of(text, "\"stiffness_N_m\": 500, }"));
+  EXPECT_GT(errors[0].column, 1);
+  EXPECT_EQ(errors[0].json_path, "");
+  EXPECT_NE(errors[0].message.find("malformed JSON at column " + std::to_string(errors[0].column)),
+            std::string::npos) << errors[0].message;
+}
+
+TEST(ScenarioLoaderErrors, TruncatedFileNamesTheLastLine) {
+  const std::string full = box_module_text();
+  const std::string text = full.substr(0, full.find("\"instrument\""));
+  const auto errors = errors_of(text);
+  ASSERT_EQ(errors.size(), 1u) << to_string(errors);
+  // The position just after the last thing written (the comma closing the nucleus).
+  EXPECT_EQ(errors[0].line, line_of(full, "\"instrument\"") - 1);
+  EXPECT_NE(errors[0].message.find("the file ends before the JSON is complete"), std::string::npos);
+}
+
+TEST(ScenarioLoaderErrors, BothUnitSpellingsAtOnce) {
+  const std::string text = replace_once(box_module_text(), "\"mass_g\": 30", "\"mass_g\": 30, \"mass_kg\": 0.03");
+  const auto errors = errors_of(text);
+  const ScenarioError* e = find_error(errors, "/world/instrument/mass_kg");
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->message.rfind("give either \"mass_g\" or \"mass_kg\", not both", 0), 0u);
+}
+
+TEST(ScenarioLoaderErrors, UnknownEnumValueSuggests) {
+  const std::string text = replace_once(box_module_text(), "\"preset\": \"Touch\"", "\"preset\": \"Tuch\"");
+  const auto errors = errors_of(text);
+  const ScenarioError* e = find_error(errors, "/world/device/preset");
+  ASSERT_NE(e, nullptr);
+  EXPECT_NE(e->message.find("did you mean \"Touch\"?"), std::string::npos) << e->message;
+}
+
+TEST(ScenarioLoaderErrors, UnknownMetricAndMaterialAreCaught) {
+  std::string text = replace_once(box_module_text(), "\"metric\": \"overload_events\"", "\"metric\": \"overload_event\"");
+  text = replace_once(text, "\"material\": \"nucleus\"", "\"material\": \"annulus\"");
+  const auto errors = errors_of(text);
+  const ScenarioError* metric = find_error(errors, "/rubric/gates/0/metric");
+  ASSERT_NE(metric, nullptr);
+  EXPECT_NE(metric->message.find("did you mean \"overload_events\"?"), std::string::npos);
+  const ScenarioError* material = find_error(errors, "/world/nucleus/blocks/0/material");
+  ASSERT_NE(material, nullptr);
+  EXPECT_NE(material->message.find("expected one of \"nucleus\""), std::string::npos);
+}
+
+TEST(ScenarioLoaderErrors, DuplicateKeyIsNotSilentlyCollapsed) {
+  const std::string text = replace_once(box_module_text(), "\"mass_g\": 30", "\"mass_g\": 30, \"mass_g\": 40");
+  const auto errors = errors_of(text);
+  const ScenarioError* e = find_error(errors, "/world/instrument/mass_g");
+  ASSERT_NE(e, nullptr);
+  EXPECT_NE(e->message.find("duplicate key"), std::string::npos);
+}
+
+TEST(ScenarioLoaderErrors, UnsupportedFormatVersion) {
+  const auto errors = errors_of(replace_once(box_module_text(), "\"format_version\": 1", "\"format_version\": 2"));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].message, "unsupported format version (got 2, expected 1)");
+}
+
+TEST(ScenarioLoaderErrors, CrossChecks) {
+  // Device without a preset must state its force.
+  auto errors = errors_of(replace_once(box_module_text(), "\"preset\": \"Touch\"", "\"name\": \"mine\""));
+  EXPECT_NE(find_error(errors, "/world/device/max_force_N"), nullptr);
+  // A nucleus block outside the removal region would start out "removed".
+  errors = errors_of(replace_once(box_module_text(), "\"min_mm\": [-15, -10, -1]", "\"min_mm\": [-15, -10, 1]"));
+  const ScenarioError* e = find_error(errors, "/world/removal_region");
+  ASSERT_NE(e, nullptr);
+  EXPECT_NE(e->message.find("does not contain nucleus block 0"), std::string::npos);
+  // Too fine a lattice for the block sizes.
+  errors = errors_of(replace_once(box_module_text(), "\"spacing_mm\": 1", "\"spacing_mm\": 0.1"));
+  e = find_error(errors, "/world/nucleus/blocks");
+  ASSERT_NE(e, nullptr);
+  EXPECT_NE(e->message.find("too many particles"), std::string::npos);
+  // Not a rotation.
+  errors = errors_of(replace_once(box_module_text(), "[1, 0, 0, 0]", "[1, 1, 0, 0]"));
+  EXPECT_NE(find_error(errors, "/world/instrument_start/orientation_wxyz"), nullptr);
+  // A nucleus needs a removal region.
+  const std::string full = box_module_text();
+  const std::size_t from = full.find(",\n    \"removal_region\"");
+  const std::size_t to = full.find("}", full.find("\"max_mm\": [15, 10, 12]")) + 1;
+  errors = errors_of(full.substr(0, from) + full.substr(to));
+  EXPECT_NE(find_error(errors, "/world/removal_region"), nullptr);
+}
+
+TEST(ScenarioLoaderErrors, AllErrorsAreCollected) {
+  std::string text = box_module_text();
+  text = replace_once(text, "\"id\": \"box-warmup\"", "\"id\": \"Box Warmup\"");
+  text = replace_once(text, "\"height_mm\": -2", "\"height_cm\": -2");
+  text = replace_once(text, "\"shape\": \"prism\"", "\"shape\": 3");
+  text = replace_once(text, "\"materials\": [", "\"materials\": [], \"x\": [");
+  text = replace_once(text, "\"weight\": 1", "\"weight\": true");
+  const auto errors = errors_of(text);
+  for (const char* path : {"/id", "/world/ground/height_cm", "/world/instrument/shape", "/world/nucleus/materials",
+                           "/world/nucleus/x", "/rubric/terms/0/weight"}) {
+    EXPECT_NE(find_error(errors, path), nullptr);
+  }
+}
+
+TEST(ScenarioLoaderErrors, NotAnObjectAndMissingFile) {
+  auto errors = errors_of("[1, 2]");
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].to_string(), "m.json:1: wrong type (got an array of 2 items, expected an object)");
+  const LoadResult r = load_scenario_file("/nonexistent/scenario.json");
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_NE(r.errors[0].message.find("cannot open"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace acdr
