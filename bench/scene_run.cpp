@@ -1,21 +1,18 @@
 // Benchmark runs of a World along a trajectory.
 #include "bench/scene_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
 
 namespace acdr {
-namespace {
 
-/// CPU time of the calling thread, s.
 double thread_cpu_s() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
-
-}  // namespace
 
 WorldConfig apply_settings(const WorldConfig& base, const RunSettings& s) {
   WorldConfig c = base;
@@ -27,57 +24,63 @@ WorldConfig apply_settings(const WorldConfig& base, const RunSettings& s) {
   return c;
 }
 
-RunTrace run_scene(const WorldConfig& config, const Trajectory& trajectory, double duration_s,
-                   double sample_dt_s, const std::function<void(double)>& progress) {
+RunTrace run_scene(const WorldConfig& config_in, const Trajectory& trajectory,
+                   const RunWindow& window, const std::function<void(double)>& progress,
+                   const RunObserver& observer) {
+  using Clock = std::chrono::steady_clock;
   RunTrace out;
+  WorldConfig config = config_in;
+  const double t0 = window.start_s;
+  config.instrument_start = trajectory.at(t0);
   World world(config);
   const double dt = config.solver.dt_s;
-  const double duration = duration_s > 0.0 ? duration_s : trajectory.duration_s();
+  const double duration =
+      window.duration_s > 0.0 ? window.duration_s : trajectory.duration_s() - t0;
   const auto steps = static_cast<std::int64_t>(std::llround(duration / dt));
-  const auto samples = static_cast<std::size_t>(std::floor(duration / sample_dt_s + 1e-9));
-  out.t_s.reserve(samples);
-  out.force_N.reserve(samples);
-  out.force_vec_N.reserve(samples);
+  const auto windows = static_cast<std::size_t>(std::floor(duration / window.sample_s + 1e-9));
+  out.t_s.reserve(windows);
+  out.force_N.reserve(windows);
+  out.instrument.reserve(windows);
   if (world.nucleus()) {
     out.particles = world.nucleus()->particle_count();
     out.bonds = world.nucleus()->bond_count();
   }
   DeviceSample sample;
-  sample.pose = config.instrument_start;
   double iterations = 0.0, active = 0.0;
-  // Force samples: the value of the step that ends at or after each sample instant, linearly
-  // interpolated between the two steps around it.
-  std::size_t next = 0;
-  Vec3 f_prev = Vec3::Zero();
-  double t_prev = 0.0;
-  const auto start = std::chrono::steady_clock::now();
+  Vec3 f_sum = Vec3::Zero();
+  int f_count = 0;
+  const auto start = Clock::now();
   const double cpu_start = thread_cpu_s();
   for (std::int64_t k = 0; k < steps; ++k) {
-    const double t_next = (k + 1) * dt;
-    sample.t_s = t_next;
-    sample.pose = trajectory.at(t_next);
+    const double t_rel = double(k + 1) * dt;
+    sample.t_s = t0 + t_rel;
+    sample.pose = trajectory.at(t0 + t_rel);
+    const auto step_start = Clock::now();
     const Frame& f = world.step(sample);
+    if (observer) observer(world, f);
+    out.max_step_wall_s = std::max(
+        out.max_step_wall_s, std::chrono::duration<double>(Clock::now() - step_start).count());
     iterations += f.solver_iterations;
     active += f.active_particles;
-    while (next < samples && (next + 1) * sample_dt_s <= t_next + 1e-12) {
-      const double ts = (next + 1) * sample_dt_s;
-      const double a = (ts - t_prev) / (t_next - t_prev);
-      const Vec3 fs = (1.0 - a) * f_prev + a * f.nucleus_force_N;
-      out.t_s.push_back(ts);
-      out.force_vec_N.push_back(fs);
-      out.force_N.push_back(fs.norm());
-      ++next;
+    f_sum += f.nucleus_force_N;
+    ++f_count;
+    // Close a force window when this step ends on (or just past) its boundary.
+    const double boundary = double(out.t_s.size() + 1) * window.sample_s;
+    if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt) {
+      out.t_s.push_back(boundary);
+      out.force_N.push_back(f_sum / f_count);
+      out.instrument.push_back(f.instrument);
+      f_sum = Vec3::Zero();
+      f_count = 0;
     }
-    f_prev = f.nucleus_force_N;
-    t_prev = t_next;
     if (world.failed()) {
       out.failed = true;
       break;
     }
-    if (progress && (k % 500 == 0)) progress(double(k) / double(steps));
+    if (progress && (k % 250 == 0)) progress(double(k) / double(steps));
   }
   out.cpu_s = thread_cpu_s() - cpu_start;
-  out.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   out.steps = world.step_count();
   out.sim_s = world.time_s();
   out.mean_iterations = out.steps > 0 ? iterations / out.steps : 0.0;
