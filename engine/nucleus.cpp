@@ -196,6 +196,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   site_w_.clear();
   site_r2_.clear();
   site_wv_.clear();
+  site_len_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -211,7 +212,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         site_w_.push_back(kernel(r, density_radius_));
         site_wv_.push_back(wv);
         site_r2_.push_back(r * r);
+        site_len_.push_back(r);
       }
+
+  build_wall_table();
 
   const std::size_t n = setup.positions_m.size();
   x_ = setup.positions_m;
@@ -273,6 +277,23 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   far_n_.resize(pair_cap);
   far_r_.resize(pair_cap);
   far_bond_.resize(pair_cap);
+  skin_ = options_.skin_factor * h_;
+  {
+    // Candidates within R + skin: the lattice count within that reach, with room for 50 %
+    // compression of the neighbourhood.
+    std::size_t lattice = 0;
+    const double reach = options_.neighbor_radius_factor + options_.skin_factor;
+    const int m = static_cast<int>(std::ceil(reach));
+    for (int a = -m; a <= m; ++a)
+      for (int b = -m; b <= m; ++b)
+        for (int c = -m; c <= m; ++c)
+          if (a * a + b * b + c * c > 0 && a * a + b * b + c * c < reach * reach) ++lattice;
+    const std::size_t cand_cap = std::max<std::size_t>(16, n * lattice * 3 / 4);
+    cand_ij_.resize(2 * cand_cap);
+    cand_bond_.resize(cand_cap);
+  }
+  x_built_.assign(n, Vec3::Zero());
+  candidates_valid_ = false;
   bond_in_pair_.assign(nb, 0);
   loose_.assign(nb, 0);
   // Bonds of each particle (CSR), to find a pair's bond.
@@ -471,20 +492,64 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
   }
 }
 
+// Candidate pairs (a Verlet list, Verlet 1967): every pair closer than R + skin, found on the
+// hashed grid and kept until some particle has moved more than skin / 2 since, so no pair
+// within R can be missing. Rebuilding costs a grid query per particle; a step between rebuilds
+// only re-measures the candidates.
+void Nucleus::rebuild_candidates() {
+  const std::size_t n = x_.size();
+  const double reach = radius_ + skin_;
+  grid_.build(x_, reach, options_.periodic, options_.periodic_min_m, options_.periodic_max_m);
+  const double reach2 = reach * reach;
+  candidates_ = 0;
+  const std::size_t cap = cand_bond_.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    grid_.for_each_candidate(i, [&](std::size_t j) {
+      if (j <= i) return;
+      if (min_image(x_[j] - x_[i]).squaredNorm() >= reach2) return;
+      if (candidates_ >= cap) {
+        pairs_overflow_ = true;
+        return;
+      }
+      std::int32_t bond = -1;
+      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
+        const std::int32_t b = bond_adj_[k];
+        if (bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
+          bond = b;
+          break;
+        }
+      }
+      cand_ij_[2 * candidates_] = static_cast<std::int32_t>(i);
+      cand_ij_[2 * candidates_ + 1] = static_cast<std::int32_t>(j);
+      cand_bond_[candidates_] = bond;
+      ++candidates_;
+    });
+  }
+  std::copy(x_.begin(), x_.end(), x_built_.begin());
+  candidates_valid_ = true;
+}
+
 void Nucleus::build_pairs() {
   const std::size_t n = x_.size();
-  grid_.build(x_, radius_, options_.periodic, options_.periodic_min_m, options_.periodic_max_m);
+  pairs_overflow_ = false;
+  // Rebuild the candidates when some particle has moved more than skin / 2 since.
+  bool rebuild = !candidates_valid_;
+  const double half_skin2 = 0.25 * skin_ * skin_;
+  for (std::size_t i = 0; i < n && !rebuild; ++i)
+    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
+  if (rebuild) rebuild_candidates();
+
   const double R2 = radius_ * radius_;
   std::fill(halo_.begin(), halo_.end(), 0);
   // Halo: frozen particles next to awake ones. Their density must be complete (they push on
   // the awake ones through their pressure), so their pairs are kept too.
   if (active_count_ < n) {
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      grid_.for_each_candidate(i, [&](std::size_t j) {
-        if (awake_[j] || halo_[j]) return;
-        if (min_image(x_[j] - x_[i]).squaredNorm() < R2) halo_[j] = 1;
-      });
+    for (std::size_t c = 0; c < candidates_; ++c) {
+      const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
+      if (awake_[i] == awake_[j]) continue;
+      const std::int32_t sleeper = awake_[i] ? j : i;
+      if (halo_[sleeper]) continue;
+      if (min_image(x_[j] - x_[i]).squaredNorm() < R2) halo_[sleeper] = 1;
     }
   }
   // Pairs closer than the density radius ("near": they carry pressure as well as viscosity)
@@ -493,49 +558,38 @@ void Nucleus::build_pairs() {
   pairs_ = 0;
   near_pairs_ = 0;
   std::size_t far = 0;
-  pairs_overflow_ = false;
   const std::size_t cap = pair_r_.size();
   const double Rd2 = density_radius_ * density_radius_;
   for (std::size_t b = 0; b < bond_alive_.size(); ++b) bond_in_pair_[b] = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!awake_[i] && !halo_[i]) continue;
-    grid_.for_each_candidate(i, [&](std::size_t j) {
-      if (j == i) return;
-      const bool j_in = awake_[j] || halo_[j];
-      if (j_in && j < i) return;  // counted from j
-      const Vec3 d = min_image(x_[j] - x_[i]);
-      const double r2 = d.squaredNorm();
-      if (r2 >= R2 || r2 <= 0.0) return;
-      if (near_pairs_ + far >= cap) {
-        pairs_overflow_ = true;
-        return;
-      }
-      std::int32_t bond = -1;
-      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
-        const std::int32_t b = bond_adj_[k];
-        if (bond_alive_[b] && bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
-          bond = b;
-          bond_in_pair_[b] = 1;
-          break;
-        }
-      }
-      const double r = std::sqrt(r2);
-      if (r2 < Rd2) {
-        const std::size_t p = near_pairs_++;
-        pair_ij_[2 * p] = static_cast<std::int32_t>(i);
-        pair_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
-        pair_r_[p] = r;
-        pair_n_[p] = d / r;
-        pair_bond_[p] = bond;
-      } else {
-        const std::size_t p = far++;
-        far_ij_[2 * p] = static_cast<std::int32_t>(i);
-        far_ij_[2 * p + 1] = static_cast<std::int32_t>(j);
-        far_r_[p] = r;
-        far_n_[p] = d / r;
-        far_bond_[p] = bond;
-      }
-    });
+  for (std::size_t c = 0; c < candidates_; ++c) {
+    const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
+    if (!awake_[i] && !halo_[i] && !awake_[j] && !halo_[j]) continue;
+    const Vec3 d = min_image(x_[j] - x_[i]);
+    const double r2 = d.squaredNorm();
+    if (r2 >= R2 || r2 <= 0.0) continue;
+    if (near_pairs_ + far >= cap) {
+      pairs_overflow_ = true;
+      break;
+    }
+    std::int32_t bond = cand_bond_[c];
+    if (bond >= 0 && !bond_alive_[bond]) bond = -1;
+    if (bond >= 0) bond_in_pair_[bond] = 1;
+    const double r = std::sqrt(r2);
+    if (r2 < Rd2) {
+      const std::size_t p = near_pairs_++;
+      pair_ij_[2 * p] = i;
+      pair_ij_[2 * p + 1] = j;
+      pair_r_[p] = r;
+      pair_n_[p] = d / r;
+      pair_bond_[p] = bond;
+    } else {
+      const std::size_t p = far++;
+      far_ij_[2 * p] = i;
+      far_ij_[2 * p + 1] = j;
+      far_r_[p] = r;
+      far_n_[p] = d / r;
+      far_bond_[p] = bond;
+    }
   }
   pairs_ = near_pairs_ + far;
   for (std::size_t p = 0; p < far; ++p) {
@@ -617,9 +671,20 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       // coefficient in assemble()). On the lattice this is mu A / d for the first layer.
       w.grad = Vec3::Zero();
       w.visc = Eigen::Matrix3d::Zero();
-      if (d < wall_range) {
+      int face_axis = -1;
+      if (d < wall_range && flat_face(c, x_[i], d, normal, &face_axis)) {
+        // An axis-aligned flat face seen by every site: the sums depend on d only (table).
+        const WallTableEntry e = wall_table_at(d);
+        density_[i] += e.n;
+        second_moment_[i] += e.s2;
+        w.grad = e.grad * normal;
+        w.visc = e.visc_t * Eigen::Matrix3d::Identity();
+        w.visc(face_axis, face_axis) = e.visc_n;
+      } else if (d < wall_range) {
         const double d_eff = std::max(d, 0.25 * h_);
         for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+          // sd(site) >= d - |offset|: a site that far cannot be occupied.
+          if (d - site_len_[o] >= 0.5 * h_) continue;
           const Vec3 q = x_[i] + site_offset_[o];
           Vec3 nq;
           const double sd = signed_distance(c, q, &nq);
@@ -687,6 +752,70 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       con_v_[i] = vc;
     }
   }
+}
+
+// Whether particle x at distance d sees collider c as one axis-aligned flat face within the
+// whole site neighbourhood (a half-space, or a box face far enough from the face's edges and
+// thick enough), so the tabulated wall sums apply. `axis` receives the normal's axis.
+bool Nucleus::flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal,
+                        int* axis) const {
+  const Quat& q = c.pose.orientation;
+  if (std::abs(std::abs(q.w()) - 1.0) > 1e-12) return false;  // rotated
+  int a = -1;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(std::abs(normal[k]) - 1.0) < 1e-12) a = k;
+  if (a < 0) return false;
+  *axis = a;
+  if (c.kind == ColliderKind::kHalfSpace) return a == 2;
+  if (c.kind != ColliderKind::kBox) return false;
+  // The face's extent must cover every site within R (lateral margin R) and the solid must be
+  // as deep as the sites reach (R - d; the few sites near the far face then differ from the
+  // half-space value by at most a few percent of one site's weight).
+  const Vec3 local = x - c.pose.position;
+  if (d < 0.0) return false;
+  for (int k = 0; k < 3; ++k) {
+    if (k == a) continue;
+    if (std::abs(local[k]) > c.half_extents_m[k] - radius_) return false;
+  }
+  return 2.0 * c.half_extents_m[a] >= radius_ - d;
+}
+
+// Wall sums of a flat face normal to +z at distance d, sampled over [-h/2, R + h/2].
+void Nucleus::build_wall_table() {
+  const int samples = static_cast<int>(wall_table_.size());
+  const double lo = -0.5 * h_, hi = radius_ + 0.5 * h_;
+  wall_table_step_ = (hi - lo) / (samples - 1);
+  wall_table_lo_ = lo;
+  for (int k = 0; k < samples; ++k) {
+    const double d = lo + k * wall_table_step_;
+    const double d_eff = std::max(d, 0.25 * h_);
+    WallTableEntry e{};
+    for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+      const double sd = d + site_offset_[o].z();
+      double slope = 0.0;
+      const double occ = occupancy(sd, h_, &slope);
+      if (occ <= 0.0) continue;
+      const Vec3 u = site_offset_[o] / site_len_[o];
+      const double vw = occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff);
+      e.n += occ * site_w_[o];
+      e.s2 += occ * site_wv_[o] * site_r2_[o];
+      e.grad += slope * site_w_[o] / n0_;
+      e.visc_n += vw * u.z() * u.z();
+      e.visc_t += vw * u.x() * u.x();
+    }
+    wall_table_[k] = e;
+  }
+}
+
+Nucleus::WallTableEntry Nucleus::wall_table_at(double d) const {
+  const double u = std::clamp((d - wall_table_lo_) / wall_table_step_, 0.0,
+                              static_cast<double>(wall_table_.size() - 1));
+  const std::size_t k = std::min(static_cast<std::size_t>(u), wall_table_.size() - 2);
+  const double f = u - k;
+  const WallTableEntry& a = wall_table_[k];
+  const WallTableEntry& b = wall_table_[k + 1];
+  return {a.n + f * (b.n - a.n), a.s2 + f * (b.s2 - a.s2), a.grad + f * (b.grad - a.grad),
+          a.visc_n + f * (b.visc_n - a.visc_n), a.visc_t + f * (b.visc_t - a.visc_t)};
 }
 
 // Per-step coefficients, right-hand side and block-Jacobi preconditioner.

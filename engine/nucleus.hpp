@@ -47,6 +47,9 @@ struct NucleusOptions {
   Vec3 periodic_max_m = Vec3::Zero();
   /// Upper bound of neighbour pairs per particle (pairs capacity = N * this / 2).
   int max_neighbors = 48;
+  /// Verlet skin in units of h: candidate pairs are kept within R + skin and rebuilt once a
+  /// particle has moved skin / 2.
+  double skin_factor = 0.3;
 };
 
 /// An explicit particle scene (verification, tests): positions, materials, fixed particles
@@ -120,6 +123,7 @@ class Nucleus {
   void init(std::span<const Collider> static_colliders, const NucleusParticleSetup& setup);
   void wake_and_sleep(std::span<const Collider> moving, double dt);
   void build_pairs();
+  void rebuild_candidates();
   void setup_walls(double dt, std::span<const Collider> moving);
   void assemble(double dt);
   void apply(std::span<const Vec3> in, std::span<Vec3> out);
@@ -131,6 +135,16 @@ class Nucleus {
                              std::span<BodyReaction> reactions);
   void break_bonds();
   Vec3 min_image(const Vec3& d) const;
+  struct WallTableEntry {
+    double n = 0.0;       // density share
+    double s2 = 0.0;      // second-moment share, m^2
+    double grad = 0.0;    // d(density)/dd / n0 along the normal, 1/m
+    double visc_n = 0.0;  // no-slip tensor, normal component
+    double visc_t = 0.0;  // no-slip tensor, tangential components
+  };
+  bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
+  void build_wall_table();
+  WallTableEntry wall_table_at(double d) const;
 
   NucleusConfig config_;
   SolverConfig solver_;
@@ -150,6 +164,9 @@ class Nucleus {
   std::vector<double> site_w_;     // their kernel weights
   std::vector<double> site_r2_;    // their squared lengths, m^2
   std::vector<double> site_wv_;    // their viscous weights
+  std::vector<double> site_len_;   // their lengths, m
+  std::array<WallTableEntry, 1024> wall_table_{};  // flat-face wall sums over d
+  double wall_table_lo_ = 0.0, wall_table_step_ = 1.0;
 
   // Particles (N each).
   std::vector<Vec3> x_;          // positions, m
@@ -189,6 +206,13 @@ class Nucleus {
   std::vector<std::int32_t> pair_bond_;  // the pair's live bond, -1 if none
   std::size_t pairs_ = 0;
   std::size_t near_pairs_ = 0;         // pairs [0, near_pairs_) are within the density radius
+  // Verlet candidates: pairs within R + skin at the last rebuild (capacity C).
+  std::vector<std::int32_t> cand_ij_;    // 2C
+  std::vector<std::int32_t> cand_bond_;  // C, the pair's bond at build (-1 none)
+  std::vector<Vec3> x_built_;            // N, positions at the last rebuild, m
+  std::size_t candidates_ = 0;
+  bool candidates_valid_ = false;
+  double skin_ = 0.3e-3;                 // m
   // Far-pair staging while building (capacity P), then appended after the near pairs.
   std::vector<std::int32_t> far_ij_;
   std::vector<Vec3> far_n_;
