@@ -57,6 +57,16 @@ int main(int argc, char** argv) {
               r.mean_iterations, r.mean_active, r.removed_target, r.removed_fraction,
               r.force_N.empty() ? 0.0 : f_sum / r.force_N.size(), f_max,
               static_cast<unsigned long long>(r.state_hash));
+  if (const char* path = std::getenv("ACDR_PROBE_TRACE")) {
+    // Force windows as CSV, for comparing two builds or settings.
+    if (FILE* f = std::fopen(path, "w")) {
+      std::fprintf(f, "t_s,fx_N,fy_N,fz_N\n");
+      for (std::size_t k = 0; k < r.force_N.size(); ++k)
+        std::fprintf(f, "%.6f,%.9e,%.9e,%.9e\n", r.t_s[k], r.force_N[k].x(), r.force_N[k].y(),
+                     r.force_N[k].z());
+      std::fclose(f);
+    }
+  }
   std::printf("stages ms/step:");
   for (int k = 0; k < static_cast<int>(acdr::StepStage::kCount); ++k)
     std::printf(" %s %.4f", acdr::step_stage_name(static_cast<acdr::StepStage>(k)),
