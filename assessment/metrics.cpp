@@ -68,6 +68,10 @@ Metrics compute_metrics(const AttemptRecording& record) {
       case EventKind::kForceClamped: ++clamped; break;
       case EventKind::kNumerical: ++numerical; break;
       case EventKind::kAttemptEnd: break;
+      // Device silence is a property of the setup, not of the trainee's skill: stored as
+      // events, not scored.
+      case EventKind::kInputLost: break;
+      case EventKind::kDeviceDisconnected: break;
     }
   }
   m.set("overload_events", warnings);

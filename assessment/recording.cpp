@@ -122,7 +122,7 @@ std::optional<AttemptRecording> decode_recording(const std::vector<std::uint8_t>
     std::uint32_t len32 = 0;
     if (!(rd.get(e.t_s) && rd.get(kind) && rd.get(e.value) && rd.get(len32)))
       return fail("truncated events");
-    if (kind > static_cast<std::uint8_t>(EventKind::kAttemptEnd)) return fail("unknown event");
+    if (kind > static_cast<std::uint8_t>(kLastEventKind)) return fail("unknown event");
     if (rd.pos + len32 > bytes.size()) return fail("truncated event text");
     e.kind = static_cast<EventKind>(kind);
     e.detail.assign(reinterpret_cast<const char*>(bytes.data() + rd.pos), len32);

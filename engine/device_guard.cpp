@@ -65,6 +65,16 @@ GuardedInput DeviceGuard::accept(const Pose& raw) {
   return out;
 }
 
+GuardedInput DeviceGuard::accept_lost() {
+  rejecting_ = true;
+  candidate_count_ = 0;
+  GuardedInput out;
+  out.accepted = false;
+  out.target = target_;
+  out.target_velocity = Vec3::Zero();
+  return out;
+}
+
 GuardedForce DeviceGuard::limit(const Vec3& requested_N, double t_s) {
   GuardedForce out;
   if (ramp_start_s_ < 0.0) ramp_start_s_ = t_s;

@@ -2,7 +2,7 @@
 //  - incoming poses: NaN/Inf rejected, jumps beyond a threshold rejected until the device has
 //    settled at its new place, the coupling target slewed at a bounded speed;
 //  - outgoing force: ramped in at start, clamped to the device's rated maximum, rate limited,
-//    zeroed while input is rejected.
+//    zeroed while input is rejected or lost (no fresh device data beyond a silence limit).
 #pragma once
 
 #include "engine/types.hpp"
@@ -30,6 +30,11 @@ class DeviceGuard {
 
   /// Filters one device pose at the fixed step.
   GuardedInput accept(const Pose& sample);
+  /// No fresh device data this step (packets lost beyond the device's silence limit): holds
+  /// the coupling target where it is (zero target velocity) and zeroes the force until fresh
+  /// data returns; the force then ramps in again, and a hand that moved meanwhile is treated
+  /// as a jump (rejected until settled, then slewed).
+  GuardedInput accept_lost();
   /// Limits the force to send back, at simulated time t (for the ramp-in).
   GuardedForce limit(const Vec3& requested_N, double t_s);
 

@@ -11,6 +11,8 @@ const char* event_kind_name(EventKind kind) {
     case EventKind::kInputRejected: return "input_rejected";
     case EventKind::kForceClamped: return "force_clamped";
     case EventKind::kAttemptEnd: return "attempt_end";
+    case EventKind::kInputLost: return "input_lost";
+    case EventKind::kDeviceDisconnected: return "device_disconnected";
   }
   return "unknown";
 }

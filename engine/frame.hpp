@@ -36,7 +36,14 @@ enum class EventKind : std::uint8_t {
   kInputRejected,      ///< device sample with NaN or a jump, ignored (value: jump in m)
   kForceClamped,       ///< feedback force limited to the device maximum (value: requested N)
   kAttemptEnd,
+  kInputLost,          ///< device silent beyond its silence limit: pose held, force zeroed
+                       ///< (value: silence in s)
+  kDeviceDisconnected, ///< device silent beyond its disconnect timeout: the attempt ends
+                       ///< (value: silence in s)
 };
+
+/// The highest EventKind value (readers of stored events reject larger ones).
+inline constexpr EventKind kLastEventKind = EventKind::kDeviceDisconnected;
 
 const char* event_kind_name(EventKind kind);
 

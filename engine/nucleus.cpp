@@ -20,14 +20,16 @@
 // Viscosity. A pair form f_i = sum_j c_ij n_ij n_ij^T (v_j - v_i): central forces, so linear
 // and angular momentum are conserved and a rigid rotation is not damped (the property Weiler
 // et al. 2018 require of a physical viscosity). Its coefficient is calibrated so that the
-// continuum limit is the Newtonian stress tau = mu du/dy (seed Eq. 2-3): for a neighbourhood
-// with isotropic directions, <n_x^2 n_y^2> = 1/15, which gives
-//   c_ij = 30 mu V / S,   S = sum_j r_ij^2 over the neighbourhood,
-// i.e. c = mu h on the 18-neighbour cubic lattice, where the form reproduces Couette flow
-// exactly (the fourth moment of that lattice is isotropic). Solid walls add the missing
-// half-space of neighbours as a no-slip coupling c_w = mu A / d toward the wall velocity
-// (A = h^2, d = distance to the surface), so a lattice between two walls reproduces
-// F = mu A U / H with H counted from wall to wall.
+// continuum limit is the Newtonian stress tau = mu du/dy (seed Eq. 2-3): under a shear rate
+// gamma the pair sum carries tau = gamma c T / (2 V) with T = sum_j w_ij r_x^2 r_z^2 / r^2, so
+//   c_ij = w_ij 2 mu V / T,
+// T taken from the rest lattice and scaled by each particle's weighted second moment (for
+// isotropic directions T = S / 15). The weights w = (1 - r/R)^1.5 on R = 2.1 h were chosen
+// from lattice sums: the 18-neighbour sharp stencil is exact at rest but loses up to 45 % of
+// its viscosity when particle layers slide past each other; these weights keep it within
+// 0..+3.4 % for every sliding offset (docs/verification.md). Solid walls enter the sum as
+// lattice sites inside the solid whose velocity is mirrored through the wall (Morris, Fox &
+// Zhu, J Comput Phys 1997), so a lattice between two walls reproduces F = mu A U / H exactly.
 //
 // Pressure. A lattice of repulsive springs is a solid: it carries shear at rest, so its
 // stress under gravity is not hydrostatic and buoyancy comes out wrong. Instead the pressure
@@ -36,9 +38,10 @@
 // of Macklin & Mueller (SIGGRAPH 2013) taken as a stiff implicit energy. Its stress is a scalar
 // per particle, so at rest the material is a fluid with isotropic (hydrostatic) pressure up to
 // O(strain). Its Gauss-Newton Hessian kappa V grad C grad C^T is applied matrix-free by a
-// divergence pass and a gradient pass. Walls contribute the density of the missing lattice
-// half-space (the idea of boundary particles of Akinci et al., SIGGRAPH 2012, here as a
-// closed lattice sum), so particles resting at h/2 from a wall are at rest density.
+// divergence pass and a gradient pass. Walls contribute the density of the lattice sites
+// inside them (the idea of boundary particles of Akinci et al., SIGGRAPH 2012, here as sites
+// with a smooth occupancy from the signed distance), so particles resting at h/2 from a wall,
+// edge or corner are at rest density.
 //
 // Bonds: springs k (|r| - L) along the bond; only their axial stiffness k n n^T enters K (the
 // transverse geometric term is indefinite under compression). A bond breaks when its force
@@ -64,17 +67,20 @@ constexpr int kCalmStepsToSleep = 20;   // steps below the sleep speed before sl
 constexpr int kMaxWallHitsPerParticle = 4;
 constexpr double kMaxSpeed_m_s = 100.0;  // above this a particle is reported as a blow-up
 
-/// Density kernel w(r) = (1 - r^2/R^2)^3 (the poly6 shape, Mueller et al. SCA 2003), w(0) = 1.
+/// Density kernel w(r) = (1 - r/R)^3 (the "spiky" shape of Desbrun & Gascuel 1996, used for
+/// pressure by Mueller et al., SCA 2003), w(0) = 1. Its slope is steepest at r = 0, so two
+/// particles pushed together are pushed apart harder the closer they are; the poly6 shape's
+/// slope vanishes at r = 0 and let clumps of overlapped particles jitter at high pressure.
 inline double kernel(double r, double R) {
   if (r >= R) return 0.0;
-  const double q = 1.0 - r * r / (R * R);
+  const double q = 1.0 - r / R;
   return q * q * q;
 }
 /// dw/dr.
 inline double kernel_slope(double r, double R) {
   if (r >= R) return 0.0;
-  const double q = 1.0 - r * r / (R * R);
-  return -6.0 * r / (R * R) * q * q;
+  const double q = 1.0 - r / R;
+  return -3.0 * q * q / R;
 }
 
 /// Weight of a pair in the viscous operator: (1 - r/R)^1.5 on R = 2.1 h. Chosen (by lattice

@@ -34,8 +34,9 @@ struct NucleusOptions {
   /// than this (32 lattice neighbours at 2.1; see viscous_weight in nucleus.cpp).
   double neighbor_radius_factor = 2.1;
   /// Support of the density kernel (pressure), in units of h; at most the interaction radius.
-  /// 1.5 reaches the 18 nearest lattice neighbours.
-  double density_radius_factor = 1.5;
+  /// 1.7 reaches the 18 nearest lattice neighbours (at h and sqrt(2) h) with the spiky kernel
+  /// still weighting the sqrt(2) h shell (at 1.5 h it nearly vanishes and buoyancy fails).
+  double density_radius_factor = 1.7;
   /// Particles are kept this far (in units of h) from solid surfaces: half a spacing, so a
   /// lattice touching a wall fills the space up to it.
   double contact_radius_factor = 0.5;

@@ -123,10 +123,16 @@ const Frame& World::step(const DeviceSample& sample) {
   StageClock clock{times_};
 
   // --- input: filter the device pose into a coupling target.
-  const GuardedInput in = guard_.accept(sample.pose);
-  if (!in.accepted && !input_rejecting_)
+  // A stale sample (the device went silent) holds the target and zeroes the force; it is
+  // recorded once per silence, apart from rejected (NaN, jump) samples.
+  const GuardedInput in = sample.stale ? guard_.accept_lost() : guard_.accept(sample.pose);
+  if (sample.stale && !input_lost_)
+    emit(EventKind::kInputLost, sample.silence_s, "device silent: force zeroed");
+  input_lost_ = sample.stale;
+  const bool rejected = !in.accepted && !sample.stale;
+  if (rejected && !input_rejecting_)
     emit(EventKind::kInputRejected, in.jump_m, in.non_finite ? "non-finite pose" : "pose jump");
-  input_rejecting_ = !in.accepted;
+  input_rejecting_ = rejected;
   const Vec3 omega_target =
       rotation_between(last_target_orientation_, in.target.orientation) / dt;
   last_target_orientation_ = in.target.orientation;

@@ -94,6 +94,7 @@ class World {
   std::int64_t steps_ = 0;
   bool failed_ = false;
   bool input_rejecting_ = false;
+  bool input_lost_ = false;
   bool warning_active_ = false;
   bool yield_active_ = false;
   bool clamp_active_ = false;

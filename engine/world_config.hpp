@@ -23,7 +23,7 @@ struct MaterialConfig {
   /// Bulk modulus of the particle pressure (density constraint), Pa: a penalty that keeps the
   /// water-rich gel nearly incompressible (hydrostatic compression of a 1 cm layer ~0.2 %).
   /// Not published for NP; 50 kPa is of the order of its measured moduli (5-60 kPa,
-  /// REFERENCES.md) and keeps the buoyancy error within 1 % (docs/verification.md).
+  /// REFERENCES.md) and keeps the buoyancy case within a few percent (docs/verification.md).
   double bulk_modulus_Pa = 5.0e4;
 };
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -14,7 +15,7 @@
 #include "scenarios/content_hash.hpp"
 #include "scenarios/device_presets.hpp"
 #include "scenarios/json_position_index.hpp"
-#include "scenarios/known_metrics.hpp"
+#include "assessment/metric_catalog.hpp"
 #include "scenarios/object_reader.hpp"
 
 namespace acdr {
@@ -34,6 +35,9 @@ std::vector<UnitKey> mass(const std::string& base) {
 }
 std::vector<UnitKey> stress(const std::string& base) {
   return {{base + "_MPa", 1e6, "MPa"}, {base + "_Pa", 1.0, "Pa"}};
+}
+std::vector<UnitKey> modulus(const std::string& base) {
+  return {{base + "_kPa", 1e3, "kPa"}, {base + "_Pa", 1.0, "Pa"}};
 }
 std::vector<UnitKey> duration(const std::string& base) {
   return {{base + "_ms", 1e-3, "ms"}, {base + "_s", 1.0, "s"}};
@@ -108,6 +112,9 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
   }
   if (auto v = r.quantity(length("bond_break"), Need::kOptional, Range::positive(10 * kMm))) {
     m.bond_break_m = *v;
+  }
+  if (auto v = r.quantity(modulus("bulk_modulus"), Need::kOptional, Range::positive(1e9))) {
+    m.bulk_modulus_Pa = *v;
   }
   if (auto v = r.boolean("counts_as_target", Need::kOptional)) m.counts_as_target = *v;
   r.finish();
@@ -442,6 +449,10 @@ void read_document(ObjectReader& r, ScenarioModel& m) {
   }
   if (auto s = r.string("title", Need::kRequired, true, {}, "the title shown to trainees")) m.title = *s;
   if (auto s = r.string("goal", Need::kRequired, true, {}, "the learning goal in plain words")) m.goal = *s;
+  if (auto s = r.string("curriculum", Need::kOptional, true, {},
+                        "the curriculum id, e.g. \"acdr-scooping\"")) {
+    m.curriculum = *s;
+  }
   if (auto v = r.integer("module_order", Need::kOptional, Range::closed(0, 10000))) m.module_order = *v;
   if (auto v = r.number("time_limit_s", Need::kOptional, Range::closed(0.0, 86400.0), "s")) {
     m.time_limit_s = *v;
@@ -541,6 +552,15 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
 }
 
 LoadResult load_scenario_file(const std::string& path) {
+  // A directory reads as empty and a FIFO without a writer would block forever: refuse both.
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (!ec && (std::filesystem::is_directory(st) || std::filesystem::is_fifo(st) ||
+              std::filesystem::is_socket(st))) {
+    LoadResult r;
+    r.errors.push_back({path, 0, 0, "", "not a regular file (expected a scenario file)"});
+    return r;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     LoadResult r;

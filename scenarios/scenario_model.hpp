@@ -16,6 +16,7 @@ struct ScenarioModel {
   std::string id;            ///< stable module id, e.g. "box-warmup"
   std::string title;
   std::string goal;          ///< learning goal in plain words
+  std::string curriculum;    ///< curriculum id; empty: a stand-alone module
   int module_order = 0;      ///< position in the curriculum
   double time_limit_s = 0.0; ///< 0: none
   WorldConfig world;

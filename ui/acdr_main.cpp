@@ -3,10 +3,15 @@
 
 #include <iostream>
 
+#include "ui/commands/device_sim_command.hpp"
 #include "ui/commands/make_trajectory_command.hpp"
 #include "ui/commands/render_command.hpp"
+#include "ui/commands/report_command.hpp"
 #include "ui/commands/rescore_command.hpp"
 #include "ui/commands/run_command.hpp"
+#include "ui/commands/stress_command.hpp"
+#include "ui/commands/validate_command.hpp"
+#include "ui/commands/verify_command.hpp"
 
 
 int main(int argc, char** argv) {
@@ -20,15 +25,98 @@ int main(int argc, char** argv) {
   acdr::RunOptions run;
   auto* run_cmd = app.add_subcommand("run", "Run one attempt of a scenario (module)");
   run_cmd->add_option("scenario", run.scenario, "Scenario file (JSON)")->required();
-  run_cmd->add_option("--input", run.input, "replay:FILE (a recorded trajectory, CSV)")
+  run_cmd->add_option("--input", run.input,
+                      "replay:FILE (a recorded trajectory, CSV), udp:PORT (a haptic device "
+                      "bridge, docs/haptic-bridge.md) or mouse (window only)")
       ->required();
   run_cmd->add_option("--trainee", run.trainee, "Trainee id (omit for a practice attempt)");
+  run_cmd->add_flag("--override", run.override_lock,
+                    "Let the trainee take a locked module (an instructor's decision, recorded)");
+  run_cmd->add_option("--override-by", run.override_by, "Who allowed the override");
+  run_cmd->add_option("--override-reason", run.override_reason, "Why");
   run_cmd->add_option("--db", run.db, "Database file (default: $ACDR_DB or the data directory)");
   run_cmd->add_option("--png", run.png, "Write a picture of the final frame");
   run_cmd->add_option("--record", run.record, "Also write the attempt's recording to a file");
   run_cmd->add_flag("--json", run.json, "Print the result as JSON on stdout");
-  run_cmd->add_flag("--headless", run.headless, "No window (the only mode in this build)");
+  run_cmd->add_flag("--headless", run.headless,
+                    "No window (default: a window when a display exists)");
+  run_cmd->add_option("--device-timeout", run.device_timeout_s,
+                      "udp: seconds to wait for the bridge, and without packets before the "
+                      "attempt ends as disconnected (default 5)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--screenshot", run.screenshot,
+                      "Window: save a picture of the trainee view (PNG)");
+  run_cmd->add_option("--screenshot-at", run.screenshot_at_s,
+                      "Window: simulated time of that picture in s (default: the last frame)");
+  run_cmd->add_option("--score-screenshot", run.score_screenshot,
+                      "Window: save a picture of the score screen (PNG)");
+  run_cmd->add_option("--close-after", run.close_after_s,
+                      "Window: close the score screen after this many seconds");
   run_cmd->callback([&] { code = acdr::run_run(run, std::cout, std::cerr); });
+
+  // acdr device-sim
+  acdr::DeviceSimOptions sim;
+  auto* sim_cmd = app.add_subcommand(
+      "device-sim", "A virtual haptic device: plays a trajectory over the UDP bridge protocol");
+  sim_cmd->add_option("--port", sim.bridge.port, "The simulator's UDP port (acdr run --input "
+                                                  "udp:PORT)")
+      ->required()
+      ->check(CLI::Range(1, 65535));
+  sim_cmd->add_option("--trajectory", sim.trajectory, "Trajectory CSV to play")->required();
+  sim_cmd->add_option("--host", sim.bridge.host, "The simulator's address (default 127.0.0.1)");
+  sim_cmd->add_option("--rate", sim.bridge.rate_hz, "Pose packets per second (default 1000)")
+      ->check(CLI::Range(1.0, 20000.0));
+  sim_cmd->add_option("--forces-csv", sim.forces_csv, "Log the forces received to a CSV file");
+  sim_cmd->add_option("--connect-timeout", sim.bridge.connect_timeout_s,
+                      "Seconds to wait for the simulator to answer (default 30)");
+  sim_cmd->add_option("--drop-every", sim.bridge.drop_every,
+                      "Fault: withhold every n-th pose packet");
+  sim_cmd->add_option("--silence-at", sim.bridge.silence_at_s,
+                      "Fault: stop sending at this trajectory time (s) ...");
+  sim_cmd->add_option("--silence-for", sim.bridge.silence_for_s, "... for this long (s)");
+  sim_cmd->add_option("--nan-at", sim.bridge.nan_at_s, "Fault: one NaN pose at this time (s)");
+  sim_cmd->add_option("--jump-at", sim.bridge.jump_at_s,
+                      "Fault: poses jump by --jump-mm along x from this time (s) for 20 ms");
+  double jump_mm = 50.0;
+  sim_cmd->add_option("--jump-mm", jump_mm, "Size of that jump (mm, default 50)");
+  sim_cmd->add_flag("--json", sim.json, "Print the summary as JSON");
+  sim_cmd->callback([&] {
+    sim.bridge.jump_m = jump_mm * 1e-3;
+    code = acdr::run_device_sim(sim, std::cout, std::cerr);
+  });
+
+  // acdr validate
+  std::vector<std::string> validate_files;
+  auto* validate_cmd = app.add_subcommand("validate", "Check scenario files");
+  validate_cmd->add_option("files", validate_files, "Scenario files")->required();
+  validate_cmd->callback([&] { code = acdr::run_validate(validate_files, std::cout); });
+
+  // acdr report
+  acdr::ReportOptions report;
+  auto* report_cmd = app.add_subcommand("report", "Attempts and progress from the database");
+  report_cmd->add_option("--db", report.db_path, "Database file");
+  report_cmd->add_option("--trainee", report.trainee, "Only this trainee");
+  report_cmd->add_option("--module", report.module, "Only this module");
+  report_cmd->add_option("--format", report.format, "table, csv, json or xapi")
+      ->check(CLI::IsMember({"table", "csv", "json", "xapi"}));
+  report_cmd->callback([&] { code = acdr::run_report(report, std::cout, std::cerr); });
+
+  // acdr verify
+  acdr::VerifyOptions verify;
+  auto* verify_cmd = app.add_subcommand(
+      "verify", "Analytic verification of the physics (seed Eq. 1-11 and more)");
+  verify_cmd->add_option("cases", verify.case_files, "Case files (JSON); none: built-in cases");
+  verify_cmd->add_flag("--json", verify.json, "Print the results as JSON");
+  verify_cmd->add_flag("--fast", verify.fast, "Smaller scenes, same tolerances");
+  verify_cmd->callback([&] { code = acdr::run_verify(verify, std::cout, std::cerr); });
+
+  // acdr stress
+  acdr::StressOptions stress;
+  auto* stress_cmd = app.add_subcommand(
+      "stress", "Numerical stability suite: time step, stiffness, viscosity, speed, bad input");
+  stress_cmd->add_flag("--json", stress.json, "Print the results as JSON");
+  stress_cmd->add_flag("--fast", stress.fast, "Coarser particles and shorter holds");
+  stress_cmd->callback([&] { code = acdr::run_stress(stress, std::cout, std::cerr); });
 
   // acdr render
   acdr::RenderOptions render;

@@ -3,10 +3,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 #include "assessment/metrics.hpp"
 #include "assessment/scoring.hpp"
 #include "engine/trajectory.hpp"
+#include "engine/udp_device.hpp"
 
 namespace acdr {
 
@@ -16,53 +18,79 @@ const char* attempt_end_name(AttemptEnd end) {
     case AttemptEnd::kTimeLimit: return "time limit";
     case AttemptEnd::kNumericalFailure: return "numerical failure";
     case AttemptEnd::kStopped: return "stopped";
+    case AttemptEnd::kDisconnected: return "device disconnected";
   }
   return "?";
 }
 
-AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
-                       const StepObserver& observer) {
-  AttemptRun run;
+AttemptStepper::AttemptStepper(const ScenarioModel& scenario, World& world, InputDevice& device)
+    : scenario_(scenario), world_(world), device_(device) {
   const double dt = scenario.world.solver.dt_s;
   const double limit = scenario.time_limit_s;
-  if (limit > 0) run.record.frames.reserve(static_cast<std::size_t>(limit / dt) + 16);
+  if (limit > 0) run_.record.frames.reserve(static_cast<std::size_t>(limit / dt) + 16);
+  run_.record.events.reserve(1024);
+  sample_.pose = scenario.world.instrument_start;
+}
 
-  const auto start = std::chrono::steady_clock::now();
-  DeviceSample sample;
-  sample.pose = scenario.world.instrument_start;
-  for (;;) {
-    const double t_next = world.time_s() + dt;
-    DeviceSample fresh = sample;
-    if (device.sample(t_next, fresh)) sample = fresh;
-    const Frame& frame = world.step(sample);
-    device.render_force(frame.feedback_force_N);
-    run.record.frames.push_back(frame);
-    world.drain_events(run.record.events);
-    if (world.failed()) {
-      run.end = AttemptEnd::kNumericalFailure;
-      break;
-    }
-    if (observer && !observer(world, frame)) {
-      run.end = AttemptEnd::kStopped;
-      break;
-    }
-    if (sample.end) {
-      run.end = AttemptEnd::kInputEnded;
-      break;
-    }
-    if (limit > 0 && world.time_s() >= limit - 0.5 * dt) {
-      run.end = AttemptEnd::kTimeLimit;
-      break;
-    }
+bool AttemptStepper::step() {
+  if (ended_) return false;
+  const double dt = scenario_.world.solver.dt_s;
+  const double limit = scenario_.time_limit_s;
+  const double t_next = world_.time_s() + dt;
+  DeviceSample fresh = sample_;
+  if (device_.sample(t_next, fresh)) sample_ = fresh;
+  const Frame& frame = world_.step(sample_);
+  device_.render_force(frame.feedback_force_N);
+  run_.record.frames.push_back(frame);
+  world_.drain_events(run_.record.events);
+  if (world_.failed()) {
+    stop(AttemptEnd::kNumericalFailure);
+  } else if (sample_.disconnected) {
+    run_.record.events.push_back(Event{world_.time_s(), EventKind::kDeviceDisconnected,
+                                       sample_.silence_s, "no device packet within the timeout"});
+    stop(AttemptEnd::kDisconnected);
+  } else if (sample_.end) {
+    stop(AttemptEnd::kInputEnded);
+  } else if (limit > 0 && world_.time_s() >= limit - 0.5 * dt) {
+    stop(AttemptEnd::kTimeLimit);
   }
-  run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  run.record.events.push_back(
-      Event{world.time_s(), EventKind::kAttemptEnd, 0.0, attempt_end_name(run.end)});
-  run.record.summary = world.summary();
-  run.metrics = compute_metrics(run.record);
-  run.score = score_attempt(run.metrics, scenario.rubric);
-  run.state_hash = world.state_hash();
-  return run;
+  return !ended_;
+}
+
+void AttemptStepper::stop(AttemptEnd why) {
+  if (ended_) return;
+  ended_ = true;
+  end_ = why;
+}
+
+AttemptRun AttemptStepper::finish(double wall_s) {
+  run_.end = end_;
+  run_.wall_s = wall_s;
+  run_.record.events.push_back(
+      Event{world_.time_s(), EventKind::kAttemptEnd, 0.0, attempt_end_name(run_.end)});
+  run_.record.summary = world_.summary();
+  run_.metrics = compute_metrics(run_.record);
+  run_.score = score_attempt(run_.metrics, scenario_.rubric);
+  run_.state_hash = world_.state_hash();
+  device_.finish(attempt_end_name(run_.end));
+  return std::move(run_);
+}
+
+AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
+                       const StepObserver& observer) {
+  AttemptStepper stepper(scenario, world, device);
+  const auto start = std::chrono::steady_clock::now();
+  for (;;) {
+    const bool more = stepper.step();
+    if (observer && !observer(world, world.last_frame()) && more) {
+      stepper.stop(AttemptEnd::kStopped);
+      break;
+    }
+    if (!more) break;
+  }
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stepper.finish(wall);
 }
 
 std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error) {
@@ -78,7 +106,22 @@ std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* er
     if (!trajectory) return nullptr;
     return std::make_unique<TrajectoryReplay>(std::move(*trajectory));
   }
-  *error = "unknown input '" + spec + "' (expected replay:FILE)";
+  if (kind == "udp") {
+    char* end = nullptr;
+    const long port = std::strtol(arg.c_str(), &end, 10);
+    if (arg.empty() || *end != '\0' || port < 1 || port > 65535) {
+      *error = "--input udp:PORT needs a port number 1-65535 (got '" + spec + "')";
+      return nullptr;
+    }
+    UdpDeviceOptions options;
+    options.port = static_cast<int>(port);
+    return UdpDevice::open(options, error);
+  }
+  if (kind == "mouse") {
+    *error = "--input mouse needs a window (drop --headless, and run with a display)";
+    return nullptr;
+  }
+  *error = "unknown input '" + spec + "' (expected replay:FILE, udp:PORT or mouse)";
   return nullptr;
 }
 

@@ -15,7 +15,7 @@
 
 namespace acdr {
 
-enum class AttemptEnd { kInputEnded, kTimeLimit, kNumericalFailure, kStopped };
+enum class AttemptEnd { kInputEnded, kTimeLimit, kNumericalFailure, kStopped, kDisconnected };
 const char* attempt_end_name(AttemptEnd end);
 
 struct AttemptRun {
@@ -30,13 +30,46 @@ struct AttemptRun {
 /// Called after every step; return false to stop the attempt (e.g. a window was closed).
 using StepObserver = std::function<bool(const World&, const Frame&)>;
 
+/// The attempt one step at a time, for whoever drives the clock: run_attempt's tight loop, or
+/// the haptic thread of a live attempt (ui/live_attempt.hpp). Each step reads the device,
+/// steps the world, sends the force back, records the frame and events, and checks the ends.
+class AttemptStepper {
+ public:
+  /// `world` and `device` must outlive the stepper.
+  AttemptStepper(const ScenarioModel& scenario, World& world, InputDevice& device);
+
+  /// One fixed step; returns false once the attempt has ended (then end() says why).
+  bool step();
+  /// Ends the attempt from outside (window closed, Escape): no more steps.
+  void stop(AttemptEnd why = AttemptEnd::kStopped);
+  bool ended() const { return ended_; }
+  AttemptEnd end() const { return end_; }
+  const AttemptRecording& record() const { return run_.record; }
+  const DeviceSample& last_sample() const { return sample_; }
+
+  /// Closes the record (attempt-end event, metrics, score), tells the device, and hands the
+  /// run over. Call once, after the last step; `wall_s` is the stepping's wall time.
+  AttemptRun finish(double wall_s);
+
+ private:
+  const ScenarioModel& scenario_;
+  World& world_;
+  InputDevice& device_;
+  AttemptRun run_;
+  DeviceSample sample_;
+  bool ended_ = false;
+  AttemptEnd end_ = AttemptEnd::kInputEnded;
+};
+
 /// Steps `world` with `device` as described above. The world is left in its final state (for
 /// a picture of the last frame).
 AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
                        const StepObserver& observer = {});
 
-/// Opens an input source from its command-line spelling: "replay:FILE.csv".
-/// Returns null with `error` set when the spelling or the file is wrong.
+/// Opens an input source from its command-line spelling: "replay:FILE.csv", or
+/// "udp:PORT" for a haptic bridge on loopback (engine/udp_device.hpp). ("mouse" needs a window
+/// and is opened by the trainee view.) Returns null with `error` set when the spelling or the
+/// file is wrong or the port cannot be bound.
 std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error);
 
 }  // namespace acdr

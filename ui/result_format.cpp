@@ -8,6 +8,49 @@
 
 namespace acdr {
 
+nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
+  int clamped = 0, lost = 0, rejected = 0;
+  double max_feedback = 0.0;
+  for (const Event& e : run.record.events) {
+    clamped += e.kind == EventKind::kForceClamped;
+    lost += e.kind == EventKind::kInputLost;
+    rejected += e.kind == EventKind::kInputRejected;
+  }
+  for (const Frame& f : run.record.frames)
+    max_feedback = std::max(max_feedback, f.feedback_force_N.norm());
+  nlohmann::json j;
+  j["rate_hz"] = h.loop.rate_hz;
+  j["target_rate_hz"] = h.loop.target_rate_hz;
+  j["period_mean_ms"] = h.loop.period_mean_ms;
+  j["period_p99_ms"] = h.loop.period_p99_ms;
+  j["period_max_ms"] = h.loop.period_max_ms;
+  j["step_mean_ms"] = h.loop.work_mean_ms;
+  j["step_p99_ms"] = h.loop.work_p99_ms;
+  j["overruns"] = h.loop.overruns;
+  j["resyncs"] = h.loop.resyncs;
+  j["ticks"] = h.loop.ticks;
+  j["packets_lost"] = h.has_link ? h.link.packets_lost : 0;
+  j["force_clamped_events"] = clamped;
+  j["input_lost_events"] = lost;
+  j["input_rejected_events"] = rejected;
+  // What actually left for the device: the link's own count when there is one.
+  j["max_force_sent_N"] = h.has_link ? h.link.max_force_sent_N : max_feedback;
+  j["device_max_force_N"] = run.record.summary.device_max_force_N;
+  if (h.has_link) {
+    j["link"] = {{"bridge", h.link.bridge},
+                 {"packets_received", h.link.packets_received},
+                 {"packets_late", h.link.packets_late},
+                 {"packets_malformed", h.link.packets_malformed},
+                 {"forces_sent", h.link.forces_sent},
+                 {"send_errors", h.link.send_errors},
+                 {"silences", h.link.silences},
+                 {"longest_silence_s", h.link.longest_silence_s},
+                 {"end_of_attempt", h.link.end_of_attempt},
+                 {"disconnected", h.link.disconnected}};
+  }
+  return j;
+}
+
 nlohmann::json result_json(const ResultContext& c) {
   nlohmann::json j;
   j["scenario"] = c.scenario.path;
@@ -60,6 +103,8 @@ nlohmann::json result_json(const ResultContext& c) {
     events.push_back({{"t_s", e.t_s}, {"kind", event_kind_name(e.kind)}, {"value", e.value},
                       {"detail", e.detail}});
   j["events"] = events;
+  if (c.haptics) j["haptics"] = haptics_json(*c.haptics, c.run);
+  j["stored_as"] = c.stored_as;
   j["attempt_id"] = c.attempt_id;
   j["db"] = c.db_path;
   if (!c.png_path.empty()) j["png"] = c.png_path;
@@ -113,8 +158,26 @@ std::string result_summary(const ResultContext& c) {
                 c.scenario.rubric.pass_score, c.run.score.passed ? "PASSED" : "NOT PASSED");
   s += line;
   for (const std::string& r : c.run.score.reasons) s += "    - " + r + "\n";
-  std::snprintf(line, sizeof line, "  stored as attempt %lld in %s\n",
-                static_cast<long long>(c.attempt_id), c.db_path.c_str());
+  if (c.haptics) {
+    const HapticLoopStats& h = c.haptics->loop;
+    std::snprintf(line, sizeof line,
+                  "  haptic loop            %8.1f Hz (target %.0f), period p99 %.3f ms, "
+                  "%lld overruns\n",
+                  h.rate_hz, h.target_rate_hz, h.period_p99_ms, static_cast<long long>(h.overruns));
+    s += line;
+    if (c.haptics->has_link) {
+      const UdpDeviceStats& l = c.haptics->link;
+      std::snprintf(line, sizeof line,
+                    "  bridge %s: %lld packets, %lld lost, %lld malformed, max force sent "
+                    "%.3f N\n",
+                    l.bridge.c_str(), static_cast<long long>(l.packets_received),
+                    static_cast<long long>(l.packets_lost),
+                    static_cast<long long>(l.packets_malformed), l.max_force_sent_N);
+      s += line;
+    }
+  }
+  std::snprintf(line, sizeof line, "  stored as attempt %lld (%s) in %s\n",
+                static_cast<long long>(c.attempt_id), c.stored_as.c_str(), c.db_path.c_str());
   s += line;
   if (!c.png_path.empty()) s += "  picture of the final frame: " + c.png_path + "\n";
   return s;

@@ -5,11 +5,25 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "engine/haptic_loop.hpp"
+#include "engine/udp_device.hpp"
 #include "engine/world.hpp"
 #include "scenarios/scenario_model.hpp"
 #include "ui/attempt_runner.hpp"
 
 namespace acdr {
+
+/// How a live device drove the attempt: the haptic loop's achieved rate and the link's figures
+/// (the UDP bridge's, when there was one).
+struct HapticsReport {
+  HapticLoopStats loop;
+  bool has_link = false;
+  UdpDeviceStats link;
+};
+
+/// The `haptics` object of `acdr run --json`: rate_hz, period_p99_ms, packets_lost,
+/// force_clamped_events, max_force_sent_N, and more (docs/haptic-bridge.md).
+nlohmann::json haptics_json(const HapticsReport& haptics, const AttemptRun& run);
 
 struct ResultContext {
   const ScenarioModel& scenario;
@@ -18,6 +32,8 @@ struct ResultContext {
   std::int64_t attempt_id = 0;
   std::string db_path;
   std::string png_path;
+  const HapticsReport* haptics = nullptr;  ///< set when a live device drove the attempt
+  std::string stored_as = "completed";     ///< or "aborted" (the trainee left)
 };
 
 /// The `acdr run --json` object: scenario, scenario_hash, duration_s, steps, metrics, score,

@@ -142,6 +142,8 @@ StressResult run_stress_case(const StressCaseSpec& spec) {
   const auto t0 = std::chrono::steady_clock::now();
   bool window_started = false;
   double energy_start = 0.0;
+  double ke_early = 0.0, ke_late = 0.0, e_early = 0.0, e_late = 0.0;
+  int n_early = 0, n_late = 0;
   for (int s = 0; s < steps; ++s) {
     const double t = (s + 1) * dt;
     DeviceSample sample;
@@ -195,6 +197,13 @@ StressResult run_stress_case(const StressCaseSpec& spec) {
       res.hold_energy_start_J = ke;
       energy_start = nucleus->mechanical_energy_J();
     }
+    if (window_started) {
+      // Kinetic energy in the first and second halves of the window.
+      const bool late = t >= 0.5 * (t_window + t_end);
+      (late ? ke_late : ke_early) += ke;
+      (late ? e_late : e_early) += nucleus->mechanical_energy_J();
+      ++(late ? n_late : n_early);
+    }
     res.hold_energy_end_J = ke;
   }
   res.ms_per_step = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
@@ -208,11 +217,18 @@ StressResult run_stress_case(const StressCaseSpec& spec) {
     }
   if (world.failed()) res.nan = true;
   for (auto c : crossed) res.tunnelled += c;
-  // Energy: while nothing is driven the nucleus may only lose mechanical energy. Kinetic energy
-  // alone may rise as material falls or springs release; the tolerance (1 % of the kinetic
-  // energy at the window start, and 1e-12 J) covers the held instrument's last creep.
+  // Energy growth with nothing driven: the mean mechanical energy (kinetic + gravity + springs
+  // + pressure) of the window's second half against its first half. Kinetic energy alone is
+  // not the test: sloshing or falling material trades it with potential energy. Means, not end
+  // points: a few particles jammed into a wall edge after a violent event jitter in pressure
+  // energy without a trend. An instability grows exponentially and fails at once.
   res.hold_energy_change_J = nucleus->mechanical_energy_J() - energy_start;
-  res.energy_grew = res.hold_energy_change_J > 0.01 * res.hold_energy_start_J + 1e-12;
+  res.hold_kinetic_early_J = n_early ? ke_early / n_early : 0.0;
+  res.hold_kinetic_late_J = n_late ? ke_late / n_late : 0.0;
+  const double e_early_mean = n_early ? e_early / n_early : 0.0;
+  const double e_late_mean = n_late ? e_late / n_late : 0.0;
+  res.hold_energy_trend_J = e_late_mean - e_early_mean;
+  res.energy_grew = res.hold_energy_trend_J > 0.01 * res.hold_kinetic_early_J + 1e-12;
   res.passed = !res.nan && !res.energy_grew && res.tunnelled == 0 &&
                res.peak_device_force_N <= res.device_limit_N * (1.0 + 1e-9);
   return res;

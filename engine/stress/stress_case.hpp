@@ -32,8 +32,14 @@ struct StressResult {
   double hold_energy_start_J = 0.0;    ///< kinetic energy at the start of the hold's 2nd half
   double hold_energy_end_J = 0.0;      ///< and at its end
   /// Change of the nucleus' mechanical energy (kinetic + gravity + springs + pressure) over the
-  /// hold's second half, J: must not be positive (beyond round-off) with nothing driven.
+  /// hold's second half, J (reported; see energy_grew for the pass rule).
   double hold_energy_change_J = 0.0;
+  /// Mean kinetic energy over the first and the second half of the hold's second half, J.
+  double hold_kinetic_early_J = 0.0;
+  double hold_kinetic_late_J = 0.0;
+  /// Mean mechanical energy of the hold's last quarter minus that of the quarter before, J.
+  double hold_energy_trend_J = 0.0;
+  /// Energy grew with nothing driven: trend > 1 % of the early mean kinetic energy + 1e-12 J.
   bool energy_grew = false;
   int tunnelled = 0;                   ///< particles whose path crossed a wall (pass: 0)
   /// Particles found deeper than h/4 inside the instrument after a step (not a failure: the

@@ -54,3 +54,18 @@ TEST(Metrics, EmptyRecordIsAllZero) {
 
 }  // namespace
 }  // namespace acdr
+
+#include "assessment/metric_catalog.hpp"
+
+namespace acdr {
+namespace {
+
+TEST(MetricCatalog, ListsExactlyWhatComputeMetricsProduces) {
+  const Metrics m = compute_metrics(AttemptRecording{});
+  std::vector<std::string> produced;
+  for (const auto& [name, value] : m.values) produced.push_back(name);
+  EXPECT_EQ(produced, known_metric_names());
+}
+
+}  // namespace
+}  // namespace acdr

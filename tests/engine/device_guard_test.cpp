@@ -64,5 +64,36 @@ TEST(DeviceGuard, RampsInClampsAndRateLimits) {
   EXPECT_NEAR(out.requested_N, 100.0, 1e-12);
 }
 
+TEST(DeviceGuard, LostInputHoldsTheTargetZeroesTheForceAndRampsInAgain) {
+  DeviceGuard g(touch(), Pose{}, 1e-3);
+  Pose p;
+  p.position = Vec3(0.001, 0, 0);
+  g.accept(p);
+  double t = 1.0;
+  for (int i = 0; i < 50; ++i) g.limit(Vec3(2, 0, 0), t += 1e-3);  // settled at 2 N
+  // The device goes silent: the target holds still, no velocity, and the force falls to zero
+  // within the rate limit (2 N at 300 N/s: under 7 ms).
+  GuardedInput held = g.accept_lost();
+  EXPECT_FALSE(held.accepted);
+  EXPECT_EQ(held.target_velocity, Vec3::Zero());
+  const Vec3 target = held.target.position;
+  GuardedForce f;
+  for (int i = 0; i < 10; ++i) {
+    held = g.accept_lost();
+    EXPECT_EQ(held.target.position, target);
+    f = g.limit(Vec3(2, 0, 0), t += 1e-3);
+  }
+  EXPECT_EQ(f.force_N, Vec3::Zero());
+  // Data returns: the force ramps in from zero again (ramp_in_s = 0.1 s), no kick.
+  g.accept(p);
+  f = g.limit(Vec3(2, 0, 0), t += 1e-3);
+  EXPECT_LT(f.force_N.norm(), 0.05);
+  for (int i = 0; i < 200; ++i) {
+    g.accept(p);
+    f = g.limit(Vec3(2, 0, 0), t += 1e-3);
+  }
+  EXPECT_NEAR(f.force_N.norm(), 2.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace acdr

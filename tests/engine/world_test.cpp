@@ -2,32 +2,22 @@
 // nucleus reaching the instrument, rigid contact with the box, and bit-for-bit determinism.
 #include "engine/world.hpp"
 
+#include "engine/box_world.hpp"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace acdr {
 namespace {
 
 /// A small version of the seed's box: 10 x 10 mm cavity, 4 mm of nucleus (400 particles).
 WorldConfig small_box(bool with_nucleus = true) {
-  WorldConfig c;
-  c.ground.enabled = true;
-  c.ground.height_m = -2e-3;
-  c.box.enabled = true;
-  c.box.inner_min_m = Vec3(-5e-3, -5e-3, 0);
-  c.box.inner_max_m = Vec3(5e-3, 5e-3, 8e-3);
-  c.nucleus.enabled = with_nucleus;
-  c.nucleus.spacing_m = 1e-3;
-  c.nucleus.materials.push_back(MaterialConfig{});
-  c.nucleus.blocks.push_back({Vec3(-5e-3, -5e-3, 0), Vec3(5e-3, 5e-3, 4e-3), 0});
-  c.instrument.enabled = true;
-  c.instrument.blade_size_m = Vec3(4e-3, 4e-3, 1e-3);
-  c.instrument.shaft_length_m = 0.05;
-  c.instrument_start.position = Vec3(0, 0, 0.07);
-  c.removal.min_m = Vec3(-5e-3, -5e-3, -1e-3);
-  c.removal.max_m = Vec3(5e-3, 5e-3, 8e-3);
-  return c;
+  BoxWorldOptions o;
+  o.nucleus = with_nucleus;
+  return make_box_world(o);
 }
 
 DeviceSample at(const Vec3& grip) {
@@ -107,6 +97,78 @@ TEST(World, NonFiniteInputIsRejectedAndReported) {
   w.drain_events(events);
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events[0].kind, EventKind::kInputRejected);
+}
+
+// The safety rules of issue 7, each recorded as an event: force clamped to the device
+// maximum, NaN input (above), a pose jump, and lost input (the device went silent).
+std::vector<Event> kinds_of(World& w, EventKind kind) {
+  std::vector<Event> all, out;
+  w.drain_events(all);
+  for (const Event& e : all)
+    if (e.kind == kind) out.push_back(e);
+  return out;
+}
+
+TEST(WorldSafety, ForceIsClampedToTheDeviceMaximumAndRecorded) {
+  World w(small_box(false));
+  // Press the blade into the box floor: the coupling spring stretches far beyond 3.3 N.
+  double max_sent = 0;
+  for (int i = 0; i < 1500; ++i) {
+    const Frame& f = w.step(at(Vec3(0, 0, std::max(0.07 - 1e-4 * i, 0.0))));
+    max_sent = std::max(max_sent, f.feedback_force_N.norm());
+  }
+  EXPECT_LE(max_sent, 3.3 + 1e-9);
+  EXPECT_GT(max_sent, 3.2);
+  const auto clamped = kinds_of(w, EventKind::kForceClamped);
+  ASSERT_FALSE(clamped.empty());
+  EXPECT_GT(clamped[0].value, 3.3);  // the force that was asked for
+}
+
+// Steps with a steady push (the device held 4 mm below where the floor stops the blade, about
+// 2 N through the 500 N/m coupling) until the force is steady.
+constexpr double kPressZ = 0.046;
+void settle_pressing(World& w, int steps) {
+  for (int i = 0; i < steps; ++i) w.step(at(Vec3(0, 0, std::max(0.07 - 1e-4 * i, kPressZ))));
+}
+
+TEST(WorldSafety, PoseJumpIsRejectedRecordedAndTheForceGoesToZero) {
+  World w(small_box(false));
+  settle_pressing(w, 1200);
+  ASSERT_GT(w.last_frame().feedback_force_N.norm(), 0.5);
+  std::vector<Event> ignore;
+  w.drain_events(ignore);
+  Frame f;
+  for (int i = 0; i < 20; ++i) f = w.step(at(Vec3(0.05, 0, kPressZ)));  // a 5 cm teleport
+  EXPECT_FALSE(f.input_valid);
+  EXPECT_EQ(f.feedback_force_N, Vec3::Zero());
+  EXPECT_LT(std::abs(f.instrument.position.x()), 1e-3);  // the instrument did not follow
+  const auto rejected = kinds_of(w, EventKind::kInputRejected);
+  ASSERT_EQ(rejected.size(), 1u);
+  EXPECT_NEAR(rejected[0].value, 0.05, 1e-3);
+  EXPECT_EQ(rejected[0].detail, "pose jump");
+}
+
+TEST(WorldSafety, LostInputHoldsTheInstrumentZeroesTheForceAndIsRecorded) {
+  World w(small_box(false));
+  settle_pressing(w, 1200);
+  const double before = w.last_frame().feedback_force_N.norm();
+  ASSERT_GT(before, 0.5);
+  std::vector<Event> ignore;
+  w.drain_events(ignore);
+  DeviceSample lost = at(Vec3(0, 0, kPressZ));
+  lost.stale = true;
+  lost.silence_s = 0.06;
+  Frame f;
+  for (int i = 0; i < 20; ++i) f = w.step(lost);
+  EXPECT_EQ(f.feedback_force_N, Vec3::Zero());
+  EXPECT_FALSE(f.input_valid);
+  const auto events = kinds_of(w, EventKind::kInputLost);
+  ASSERT_EQ(events.size(), 1u);  // once per silence, not per step
+  EXPECT_DOUBLE_EQ(events[0].value, 0.06);
+  // Data returns: the force ramps in again instead of jumping back.
+  f = w.step(at(Vec3(0, 0, kPressZ)));
+  EXPECT_TRUE(f.input_valid);
+  EXPECT_LT(f.feedback_force_N.norm(), 0.1 * before);
 }
 
 }  // namespace

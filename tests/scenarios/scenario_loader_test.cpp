@@ -119,6 +119,8 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.nucleus.spacing_m, 0.0015, kTol);
   EXPECT_NEAR(w.nucleus.materials[0].bond_break_m, 0.0004, kTol);
   EXPECT_NEAR(w.nucleus.materials[1].bond_break_m, 0.0002, kTol);
+  EXPECT_NEAR(w.nucleus.materials[0].bulk_modulus_Pa, 25e3, 1e-9);
+  EXPECT_NEAR(w.nucleus.materials[1].bulk_modulus_Pa, 60e3, 1e-9);
   EXPECT_FALSE(w.nucleus.materials[1].counts_as_target);
   EXPECT_EQ(w.nucleus.blocks[1].material, 1);  // by name
   EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
@@ -139,6 +141,95 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.solver.sleep_speed_m_s, 0.0002, kTol);
   EXPECT_FALSE(w.solver.sleep_enabled);
   EXPECT_EQ(r.model->rubric.consecutive_passes_to_master, 3);
+}
+
+TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
+  // complete.json gives every field of ScenarioModel a value other than its default; a field
+  // the loader forgot would keep its default and fail here.
+  const LoadResult r = load_scenario_file(test::source_path("tests/scenarios/data/complete.json"));
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  const ScenarioModel& m = *r.model;
+  const ScenarioModel d;
+  EXPECT_NE(m.id, d.id);
+  EXPECT_NE(m.title, d.title);
+  EXPECT_NE(m.goal, d.goal);
+  EXPECT_NE(m.module_order, d.module_order);
+  EXPECT_NE(m.time_limit_s, d.time_limit_s);
+  const WorldConfig& w = m.world;
+  EXPECT_FALSE(w.gravity_m_s2.isApprox(d.world.gravity_m_s2));
+  EXPECT_NE(w.ground.enabled, d.world.ground.enabled);
+  EXPECT_NE(w.ground.height_m, d.world.ground.height_m);
+  EXPECT_NE(w.box.enabled, d.world.box.enabled);
+  EXPECT_NE(w.box.inner_min_m, d.world.box.inner_min_m);
+  EXPECT_NE(w.box.inner_max_m, d.world.box.inner_max_m);
+  EXPECT_NE(w.box.wall_thickness_m, d.world.box.wall_thickness_m);
+  EXPECT_NE(w.nucleus.enabled, d.world.nucleus.enabled);
+  EXPECT_NE(w.nucleus.spacing_m, d.world.nucleus.spacing_m);
+  EXPECT_NE(w.nucleus.bond_radius_factor, d.world.nucleus.bond_radius_factor);
+  ASSERT_EQ(w.nucleus.materials.size(), 2u);
+  const MaterialConfig md;
+  const MaterialConfig& annulus = w.nucleus.materials[1];
+  EXPECT_NE(annulus.name, md.name);
+  EXPECT_NE(annulus.density_kg_m3, md.density_kg_m3);
+  EXPECT_NE(annulus.viscosity_Pa_s, md.viscosity_Pa_s);
+  EXPECT_NE(annulus.bond_stiffness_N_m, md.bond_stiffness_N_m);
+  EXPECT_NE(annulus.bond_break_m, md.bond_break_m);
+  EXPECT_NE(annulus.bulk_modulus_Pa, md.bulk_modulus_Pa);
+  EXPECT_NE(annulus.counts_as_target, md.counts_as_target);
+  ASSERT_EQ(w.nucleus.blocks.size(), 2u);
+  const ParticleBlockConfig bd;
+  EXPECT_NE(w.nucleus.blocks[1].min_m, bd.min_m);
+  EXPECT_NE(w.nucleus.blocks[1].max_m, bd.max_m);
+  EXPECT_NE(w.nucleus.blocks[1].material, bd.material);
+  const InstrumentConfig& in = w.instrument;
+  const InstrumentConfig& id = d.world.instrument;
+  EXPECT_NE(in.enabled, id.enabled);
+  EXPECT_NE(in.shape, id.shape);
+  EXPECT_NE(in.mass_kg, id.mass_kg);
+  EXPECT_NE(in.shaft_length_m, id.shaft_length_m);
+  EXPECT_NE(in.shaft_diameter_m, id.shaft_diameter_m);
+  EXPECT_NE(in.yield_stress_Pa, id.yield_stress_Pa);
+  EXPECT_NE(in.warning_fraction, id.warning_fraction);
+  EXPECT_FALSE(in.blade_size_m.isApprox(id.blade_size_m));
+  EXPECT_NE(in.cup_diameter_m, id.cup_diameter_m);
+  EXPECT_NE(in.cup_depth_m, id.cup_depth_m);
+  EXPECT_NE(in.cup_wall_m, id.cup_wall_m);
+  const CouplingConfig& cd = d.world.coupling;
+  EXPECT_NE(w.coupling.stiffness_N_m, cd.stiffness_N_m);
+  EXPECT_NE(w.coupling.damping_Ns_m, cd.damping_Ns_m);
+  EXPECT_NE(w.coupling.rot_stiffness_Nm_rad, cd.rot_stiffness_Nm_rad);
+  EXPECT_NE(w.coupling.rot_damping_Nms_rad, cd.rot_damping_Nms_rad);
+  const DeviceConfig& dd = d.world.device;
+  EXPECT_NE(w.device.name, dd.name);
+  EXPECT_NE(w.device.max_force_N, dd.max_force_N);
+  EXPECT_NE(w.device.max_force_rate_N_s, dd.max_force_rate_N_s);
+  EXPECT_NE(w.device.ramp_in_s, dd.ramp_in_s);
+  EXPECT_NE(w.device.max_jump_m, dd.max_jump_m);
+  const SolverConfig& sd = d.world.solver;
+  EXPECT_NE(w.solver.dt_s, sd.dt_s);
+  EXPECT_NE(w.solver.substeps, sd.substeps);
+  EXPECT_NE(w.solver.max_iterations, sd.max_iterations);
+  EXPECT_NE(w.solver.tolerance, sd.tolerance);
+  EXPECT_NE(w.solver.sleep_enabled, sd.sleep_enabled);
+  EXPECT_NE(w.solver.sleep_speed_m_s, sd.sleep_speed_m_s);
+  EXPECT_NE(w.solver.sleep_distance_m, sd.sleep_distance_m);
+  EXPECT_NE(w.removal.min_m, d.world.removal.min_m);
+  EXPECT_NE(w.removal.max_m, d.world.removal.max_m);
+  EXPECT_NE(w.instrument_start.position, d.world.instrument_start.position);
+  EXPECT_FALSE(w.instrument_start.orientation.isApprox(d.world.instrument_start.orientation));
+  const Rubric& rd = d.rubric;
+  ASSERT_EQ(m.rubric.terms.size(), 2u);
+  const RubricTerm td;
+  EXPECT_NE(m.rubric.terms[0].metric, td.metric);
+  EXPECT_NE(m.rubric.terms[0].expert_mean, td.expert_mean);
+  EXPECT_NE(m.rubric.terms[0].expert_sd, td.expert_sd);
+  EXPECT_NE(m.rubric.terms[1].higher_is_better, td.higher_is_better);
+  EXPECT_NE(m.rubric.terms[0].weight, td.weight);
+  ASSERT_EQ(m.rubric.gates.size(), 2u);
+  EXPECT_NE(m.rubric.gates[1].metric, SafetyGate().metric);
+  EXPECT_NE(m.rubric.gates[1].max, SafetyGate().max);
+  EXPECT_NE(m.rubric.pass_score, rd.pass_score);
+  EXPECT_NE(m.rubric.consecutive_passes_to_master, rd.consecutive_passes_to_master);
 }
 
 TEST(ScenarioLoader, DefaultsApplyWhenKeysAreAbsent) {
@@ -396,6 +487,9 @@ TEST(ScenarioLoaderErrors, NotAnObjectAndMissingFile) {
   const LoadResult r = load_scenario_file("/nonexistent/scenario.json");
   ASSERT_EQ(r.errors.size(), 1u);
   EXPECT_NE(r.errors[0].message.find("cannot open"), std::string::npos);
+  const LoadResult dir = load_scenario_file(test::source_path("scenarios"));
+  ASSERT_EQ(dir.errors.size(), 1u);
+  EXPECT_NE(dir.errors[0].message.find("not a regular file"), std::string::npos);
 }
 
 }  // namespace

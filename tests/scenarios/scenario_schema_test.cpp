@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "scenarios/known_metrics.hpp"
+#include "assessment/metric_catalog.hpp"
 #include "scenarios/device_presets.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"

@@ -1,5 +1,6 @@
-// `acdr run`: load the scenario, open the input and the record, run the attempt, store it with
-// its recording in one transaction, draw the last frame, report.
+// `acdr run`: load the scenario, open the input and the record, run the attempt (in the trainee
+// view's window, live on the haptic thread for a bridge, or as fast as possible for a replay),
+// store it with its recording in one transaction, draw the last frame, report.
 #include "ui/commands/run_command.hpp"
 
 #include <cstdio>
@@ -10,64 +11,32 @@
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
+#include "db/progression.hpp"
+#include "engine/udp_device.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "ui/attempt_runner.hpp"
+#include "ui/live_attempt.hpp"
 #include "ui/offscreen_render.hpp"
 #include "ui/result_format.hpp"
 #include "ui/scene_snapshot.hpp"
+#include "ui/trainee_view.hpp"
 
 namespace acdr {
+namespace {
 
-int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
-  // Scenario and input first: bad files are reported before anything is stored.
-  const LoadResult loaded = load_scenario_file(options.scenario);
-  if (!loaded.ok()) {
-    err << to_string(loaded.errors);
-    return 2;
+// Stores the run: finished in one transaction, or aborted when the trainee abandoned it.
+// Returns false with `error` set when the store refused.
+bool store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run, const World& world,
+               const RunOptions& options, std::string* stored_as, std::string* error) {
+  if (run.end == AttemptEnd::kStopped) {
+    *stored_as = "aborted";
+    if (auto aborted = abort_attempt(db, attempt_id, "stopped before the end by the trainee");
+        !aborted) {
+      *error = aborted.error().message;
+      return false;
+    }
+    return true;
   }
-  const ScenarioModel& scenario = *loaded.model;
-  std::string error;
-  auto device = open_input(options.input, &error);
-  if (!device) {
-    err << error << "\n";
-    return 2;
-  }
-
-  // The attempt row exists from the start (status running) so a crash leaves a trace.
-  const std::string db_path = options.db.empty() ? default_database_path() : options.db;
-  auto db = open_store(db_path);
-  if (!db) {
-    err << db.error().message << "\n";
-    return 2;
-  }
-  ModuleRecord module;
-  module.id = scenario.id;
-  module.position = scenario.module_order;
-  module.title = scenario.title;
-  module.scenario_path = scenario.path;
-  module.scenario_hash = scenario.hash;
-  module.pass_score = scenario.rubric.pass_score;
-  module.consecutive_passes_required = scenario.rubric.consecutive_passes_to_master;
-  if (auto registered = upsert_module(db.value(), module); !registered) {
-    err << registered.error().message << "\n";
-    return 2;
-  }
-  AttemptStart start;
-  start.trainee_id = options.trainee;
-  start.module_id = scenario.id;
-  start.input_device = options.input;
-  start.program_version = ACDR_VERSION_STRING;
-  start.scenario_hash = scenario.hash;
-  auto attempt_id = begin_attempt(db.value(), start);
-  if (!attempt_id) {
-    err << attempt_id.error().message << "\n";
-    return 2;
-  }
-
-  World world(scenario.world);
-  AttemptRun run = run_attempt(scenario, world, *device);
-
-  // Store everything in one transaction.
   AttemptOutcome outcome;
   outcome.metrics = run.metrics;
   outcome.score = run.score;
@@ -83,14 +52,197 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     file.write(reinterpret_cast<const char*>(recording.bytes.data()),
                static_cast<std::streamsize>(recording.bytes.size()));
     if (!file) {
-      err << options.record << ": cannot write the recording\n";
-      return 2;
+      *error = options.record + ": cannot write the recording";
+      return false;
     }
   }
   outcome.recording = std::move(recording);
-  if (auto stored = finish_attempt(db.value(), attempt_id.value(), outcome); !stored) {
-    err << stored.error().message << "\n";
+  *stored_as = "completed";
+  if (auto stored = finish_attempt(db, attempt_id, outcome); !stored) {
+    *error = stored.error().message;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
+  // Scenario and input first: bad files are reported before anything is stored.
+  const LoadResult loaded = load_scenario_file(options.scenario);
+  if (!loaded.ok()) {
+    err << to_string(loaded.errors);
     return 2;
+  }
+  const ScenarioModel& scenario = *loaded.model;
+  const bool mouse = options.input == "mouse";
+  bool windowed = !options.headless;
+  if (windowed && !display_available()) {
+    if (mouse) {
+      err << "--input mouse needs a window, and there is no display (DISPLAY is not set)\n";
+      return 2;
+    }
+    err << "note: no display, running headless\n";
+    windowed = false;
+  }
+  std::string error;
+  std::unique_ptr<InputDevice> device;
+  if (!mouse) {
+    if (options.input.rfind("udp:", 0) == 0) {
+      // The bridge's port, with the documented timeouts.
+      UdpDeviceOptions udp;
+      char* end = nullptr;
+      const long port = std::strtol(options.input.c_str() + 4, &end, 10);
+      if (*end != '\0' || port < 1 || port > 65535) {
+        err << "--input udp:PORT needs a port number 1-65535 (got '" << options.input << "')\n";
+        return 2;
+      }
+      udp.port = static_cast<int>(port);
+      udp.disconnect_timeout_s = options.device_timeout_s;
+      device = UdpDevice::open(udp, &error);
+    } else {
+      device = open_input(options.input, &error);
+    }
+    if (!device) {
+      err << error << "\n";
+      return 2;
+    }
+  }
+  auto* udp = dynamic_cast<UdpDevice*>(device.get());
+
+  // The attempt row exists from the start (status running) so a crash leaves a trace.
+  const std::string db_path = options.db.empty() ? default_database_path() : options.db;
+  auto db = open_store(db_path);
+  if (!db) {
+    err << db.error().message << "\n";
+    return 2;
+  }
+  if (!scenario.curriculum.empty()) {
+    if (auto c = upsert_curriculum(db.value(), CurriculumRecord{scenario.curriculum,
+                                                                scenario.curriculum});
+        !c) {
+      err << c.error().message << "\n";
+      return 2;
+    }
+  }
+  ModuleRecord module;
+  module.id = scenario.id;
+  if (!scenario.curriculum.empty()) module.curriculum_id = scenario.curriculum;
+  module.position = scenario.module_order;
+  module.title = scenario.title;
+  module.scenario_path = scenario.path;
+  module.scenario_hash = scenario.hash;
+  module.pass_score = scenario.rubric.pass_score;
+  module.consecutive_passes_required = scenario.rubric.consecutive_passes_to_master;
+  if (auto registered = upsert_module(db.value(), module); !registered) {
+    err << registered.error().message << "\n";
+    return 2;
+  }
+  // Proficiency-based progression: a trainee may take a module once its prerequisites are
+  // mastered, unless an instructor overrides (recorded with the attempt). Practice attempts
+  // (no trainee) are never locked.
+  if (options.override_lock && options.override_by.empty()) {
+    err << "--override needs --override-by NAME (who decided)\n";
+    return 2;
+  }
+  if (options.trainee && !options.override_lock) {
+    auto decision = check_unlocked(db.value(), *options.trainee, scenario.id);
+    if (!decision) {
+      err << decision.error().message << "\n";
+      return 2;
+    }
+    if (!decision.value().unlocked) {
+      err << "module '" << scenario.id << "' is locked for trainee '" << *options.trainee
+          << "': " << decision.value().reason
+          << " (an instructor may allow it with --override --override-by NAME)\n";
+      return 4;
+    }
+  }
+  AttemptStart start;
+  start.override_lock = options.override_lock;
+  start.override_by = options.override_by;
+  start.override_reason = options.override_reason;
+  start.trainee_id = options.trainee;
+  start.module_id = scenario.id;
+  start.input_device = options.input;
+  start.program_version = ACDR_VERSION_STRING;
+  start.scenario_hash = scenario.hash;
+  auto attempt_id = begin_attempt(db.value(), start);
+  if (!attempt_id) {
+    err << attempt_id.error().message << "\n";
+    return 2;
+  }
+
+  // A bridge-driven attempt starts with the bridge's first packet.
+  if (udp) {
+    if (!options.json)
+      err << "waiting for the device bridge on udp:" << udp->port() << " (up to "
+          << options.device_timeout_s << " s)\n";
+    if (!udp->wait_for_connection(options.device_timeout_s)) {
+      const std::string reason = "no packet from the device bridge on udp:" +
+                                 std::to_string(udp->port()) + " within " +
+                                 std::to_string(options.device_timeout_s) + " s";
+      (void)abort_attempt(db.value(), attempt_id.value(), reason);
+      err << reason << " (attempt " << attempt_id.value() << " stored as aborted)\n";
+      return 2;
+    }
+  }
+
+  World world(scenario.world);
+  AttemptRun run;
+  HapticsReport haptics;
+  bool live = false;
+  std::string stored_as;
+  bool stored = false;
+
+  if (windowed) {
+    TraineeViewOptions view;
+    view.screenshot = options.screenshot;
+    view.screenshot_at_s = options.screenshot_at_s;
+    view.score_screenshot = options.score_screenshot;
+    view.close_after_s = options.close_after_s;
+    std::string store_error;
+    TraineeViewOutcome outcome = run_trainee_view(
+        scenario, world, device.get(), view, [&](const AttemptRun& finished) -> std::string {
+          stored = store_run(db.value(), attempt_id.value(), finished, world, options,
+                             &stored_as, &store_error);
+          if (!stored) return "Could not store the attempt: " + store_error;
+          return "Stored as attempt " + std::to_string(attempt_id.value()) + " (" + stored_as +
+                 ")";
+        });
+    if (!outcome.ok) {
+      (void)abort_attempt(db.value(), attempt_id.value(), "window failed: " + outcome.error);
+      err << "cannot open the trainee view: " << outcome.error << "\n";
+      return 2;
+    }
+    if (!stored) {
+      err << store_error << "\n";
+      return 2;
+    }
+    run = std::move(outcome.run);
+    haptics.loop = outcome.haptics;
+    live = true;
+  } else {
+    if (udp) {
+      // A live device: step on the haptic thread at the scenario's rate, paced by the clock.
+      LiveAttempt attempt(scenario, world, *device);
+      attempt.start();
+      run = attempt.wait();
+      haptics.loop = attempt.haptic_stats();
+      live = true;
+    } else {
+      run = run_attempt(scenario, world, *device);
+    }
+    std::string store_error;
+    if (!store_run(db.value(), attempt_id.value(), run, world, options, &stored_as,
+                   &store_error)) {
+      err << store_error << "\n";
+      return 2;
+    }
+  }
+  if (udp) {
+    haptics.has_link = true;
+    haptics.link = udp->stats();
   }
 
   // Picture of the final frame.
@@ -104,11 +256,15 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   }
 
   ResultContext context{scenario, run, world, attempt_id.value(), db_path, options.png};
+  context.haptics = live ? &haptics : nullptr;
+  context.stored_as = stored_as;
   if (options.json)
     out << result_json(context).dump(2) << "\n";
   else
     out << result_summary(context);
-  return run.end == AttemptEnd::kNumericalFailure ? 1 : 0;
+  if (run.end == AttemptEnd::kNumericalFailure) return 1;
+  if (run.end == AttemptEnd::kStopped) return 3;
+  return 0;
 }
 
 }  // namespace acdr

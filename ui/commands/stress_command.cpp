@@ -17,16 +17,18 @@ int run_stress(const StressOptions& options, std::ostream& out, std::ostream& er
       const StressResult& r = results.back();
       if (results.size() == 1) {
         char head[256];
-        std::snprintf(head, sizeof head, "%-30s %-6s %4s %9s %12s %6s %9s %9s %6s %8s\n", "case",
-                      "passed", "nan", "v_max m/s", "dE_hold J", "tunnel", "F_dev N", "limit N",
-                      "steps", "ms/step");
+        std::snprintf(head, sizeof head, "%-30s %-6s %4s %9s %11s %11s %6s %8s %8s %6s %8s\n",
+                      "case", "passed", "nan", "v_max m/s", "KE_hold J", "dE_hold J", "tunnel",
+                      "F_dev N", "limit N", "steps", "ms/step");
         out << head;
       }
       char line[512];
-      std::snprintf(line, sizeof line, "%-30s %-6s %4s %9.3f %12.3e %6d %9.3f %9.3f %6d %8.2f",
+      std::snprintf(line, sizeof line,
+                    "%-30s %-6s %4s %9.3f %11.3e %11.3e %6d %8.3f %8.3f %6d %8.2f",
                     r.name.c_str(), r.passed ? "yes" : "NO", r.nan ? "YES" : "no",
-                    r.max_particle_speed_m_s, r.hold_energy_change_J, r.tunnelled,
-                    r.peak_device_force_N, r.device_limit_N, r.steps, r.ms_per_step);
+                    r.max_particle_speed_m_s, r.hold_kinetic_late_J, r.hold_energy_trend_J,
+                    r.tunnelled, r.peak_device_force_N, r.device_limit_N, r.steps,
+                    r.ms_per_step);
       out << line;
       if (r.nan && !r.nan_stage.empty()) out << "  (numerical: " << r.nan_stage << ")";
       if (r.into_instrument > 0) out << "  (" << r.into_instrument << " overlapped the instrument)";
@@ -48,6 +50,9 @@ int run_stress(const StressOptions& options, std::ostream& out, std::ostream& er
                               {"hold_kinetic_energy_start_J", r.hold_energy_start_J},
                               {"hold_kinetic_energy_end_J", r.hold_energy_end_J},
                               {"hold_energy_change_J", r.hold_energy_change_J},
+                              {"hold_kinetic_early_J", r.hold_kinetic_early_J},
+                              {"hold_kinetic_late_J", r.hold_kinetic_late_J},
+                              {"hold_energy_trend_J", r.hold_energy_trend_J},
                               {"energy_grew", r.energy_grew},
                               {"tunnelled_particles", r.tunnelled},
                               {"instrument_overlaps", r.into_instrument},

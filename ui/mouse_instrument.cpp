@@ -1,0 +1,62 @@
+// Mouse and keyboard instrument input.
+#include "ui/mouse_instrument.hpp"
+
+#include <cmath>
+
+namespace acdr {
+
+void MouseInstrumentDevice::set_pose(const Pose& pose) {
+  std::lock_guard lock(mutex_);
+  pose_ = pose;
+}
+
+Pose MouseInstrumentDevice::pose() const {
+  std::lock_guard lock(mutex_);
+  return pose_;
+}
+
+void MouseInstrumentDevice::request_end() {
+  std::lock_guard lock(mutex_);
+  end_ = true;
+}
+
+bool MouseInstrumentDevice::sample(double t_s, DeviceSample& out) {
+  std::lock_guard lock(mutex_);
+  out.t_s = t_s;
+  out.pose = pose_;
+  out.end = end_;
+  return true;
+}
+
+Pose apply_mouse_input(const Pose& current, const MouseKeyInput& in, const RenderCamera& camera,
+                       const MouseMapping& mapping) {
+  Pose next = current;
+  if (in.hold) return next;
+  // View-relative horizontal axes: the camera's right, and its forward flattened onto the
+  // ground plane (so dragging never changes height).
+  Eigen::Vector3d forward = (camera.target - camera.eye).cast<double>();
+  forward.z() = 0.0;
+  if (forward.norm() < 1e-9) forward = Vec3::UnitY();
+  forward.normalize();
+  const Vec3 right = forward.cross(Vec3::UnitZ()).normalized();
+
+  const double speed_scale = in.fast ? 3.0 : 1.0;
+  Vec3 move = (in.drag_dx_px * right - in.drag_dy_px * forward) * mapping.metres_per_px;
+  const double vertical = (in.up ? 1.0 : 0.0) - (in.down ? 1.0 : 0.0);
+  move.z() += vertical * mapping.vertical_speed_m_s * speed_scale * in.dt_s;
+  const double length = move.norm();
+  if (length > mapping.max_step_m) move *= mapping.max_step_m / length;
+  next.position += move;
+
+  // Turns about the grip: tilt about the view's right axis, roll about its forward axis.
+  const double turn = mapping.turn_speed_rad_s * speed_scale * in.dt_s;
+  const double tilt = ((in.tilt_plus ? 1.0 : 0.0) - (in.tilt_minus ? 1.0 : 0.0)) * turn;
+  const double roll = ((in.roll_plus ? 1.0 : 0.0) - (in.roll_minus ? 1.0 : 0.0)) * turn;
+  if (tilt != 0.0 || roll != 0.0) {
+    const Quat q = Quat(Eigen::AngleAxisd(tilt, right)) * Quat(Eigen::AngleAxisd(roll, forward));
+    next.orientation = (q * current.orientation).normalized();
+  }
+  return next;
+}
+
+}  // namespace acdr

@@ -1,0 +1,341 @@
+// Trainee HUD and score screen.
+#include "ui/trainee_hud.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "ui/imgui_style.hpp"
+
+namespace acdr {
+namespace {
+
+ImU32 color_u32(const ImVec4& c) { return ImGui::ColorConvertFloat4ToU32(c); }
+
+const ImVec4& level_color(AlertLevel level) {
+  switch (level) {
+    case AlertLevel::kDanger: return ui_colors::kDanger;
+    case AlertLevel::kWarning: return ui_colors::kWarning;
+    case AlertLevel::kInfo: break;
+  }
+  return ui_colors::kInfo;
+}
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char text[256];
+  std::snprintf(text, sizeof text, fmt, a, b, c);
+  return text;
+}
+
+// An alert for a recent event, or none (level kInfo with empty text).
+HudAlert alert_for_event(const Event& e) {
+  const std::string kind = event_kind_name(e.kind);
+  switch (e.kind) {
+    case EventKind::kOverloadYield:
+      return {AlertLevel::kDanger, "Instrument overloaded: the shaft bent (" +
+                                       format("%.3f N·m", e.value) + ")"};
+    case EventKind::kOverloadWarning:
+      return {AlertLevel::kWarning, "Shaft overload warning: lever more gently"};
+    case EventKind::kForceClamped:
+      return {AlertLevel::kWarning, "Force limited to the device maximum (" +
+                                        format("%.1f N asked", e.value) + ")"};
+    case EventKind::kInputRejected:
+      return {AlertLevel::kWarning, "Device input rejected (" + e.detail + "): holding"};
+    case EventKind::kInputLost:
+      return {AlertLevel::kDanger, "Device silent: force switched off"};
+    case EventKind::kNumerical:
+      return {AlertLevel::kDanger, "Simulation failed (" + e.detail + ")"};
+    default: break;
+  }
+  // Zone events (their kinds carry "zone" in the name): entries are dangers, the rest warnings.
+  if (kind.find("zone") != std::string::npos) {
+    const bool entry = kind.find("entry") != std::string::npos ||
+                       kind.find("breach") != std::string::npos ||
+                       kind.find("never") != std::string::npos;
+    std::string text = entry ? "Danger zone entered" : "Close to a danger zone";
+    if (!e.detail.empty()) text += ": " + e.detail;
+    return {entry ? AlertLevel::kDanger : AlertLevel::kWarning, text};
+  }
+  return {};
+}
+
+}  // namespace
+
+HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summary,
+                        const LiveView& view, const HapticLoopStats& haptics,
+                        const std::string& input_label, double recent_s) {
+  HudModel hud;
+  const Frame& f = view.state.frame;
+  hud.title = scenario.title;
+  hud.goal = scenario.goal;
+  hud.input_label = input_label;
+  hud.t_s = f.t_s;
+  hud.time_limit_s = scenario.time_limit_s;
+  hud.hand_force_N = f.feedback_force_N.norm();
+  hud.device_max_N = summary.device_max_force_N;
+  hud.tissue_force_N = (f.nucleus_force_N + f.contact_force_N).norm();
+  hud.moment_Nm = f.bending_moment_Nm;
+  hud.warning_moment_Nm = summary.warning_moment_Nm;
+  hud.yield_moment_Nm = summary.yield_moment_Nm;
+  hud.removed_target = f.removed_target;
+  hud.initial_target = summary.initial_target;
+  hud.particle_volume_m3 = summary.particle_volume_m3;
+  hud.haptic_rate_hz = haptics.rate_hz;
+  hud.target_rate_hz = haptics.target_rate_hz;
+
+  // Live state first: it is what the trainee must react to now.
+  if (view.sample.stale)
+    hud.alerts.push_back({AlertLevel::kDanger, "Device silent: force switched off, holding"});
+  if (summary.yield_moment_Nm > 0 && f.bending_moment_Nm > summary.yield_moment_Nm)
+    hud.alerts.push_back({AlertLevel::kDanger, "Shaft over its yield moment: stop levering"});
+  else if (summary.warning_moment_Nm > 0 && f.bending_moment_Nm > summary.warning_moment_Nm)
+    hud.alerts.push_back(
+        {AlertLevel::kWarning,
+         "Shaft overload: " +
+             format("%.0f %% of yield", 100.0 * f.bending_moment_Nm / summary.yield_moment_Nm) +
+             ", ease off"});
+  if (!f.input_valid && !view.sample.stale)
+    hud.alerts.push_back({AlertLevel::kWarning, "Device pose rejected: holding the instrument"});
+  // Then recent events, newest first, one alert per distinct text.
+  for (auto it = view.events.rbegin(); it != view.events.rend(); ++it) {
+    if (it->t_s < f.t_s - recent_s) break;
+    HudAlert a = alert_for_event(*it);
+    if (a.text.empty()) continue;
+    const bool seen = std::any_of(hud.alerts.begin(), hud.alerts.end(),
+                                  [&](const HudAlert& b) { return b.text == a.text; });
+    if (!seen) hud.alerts.push_back(std::move(a));
+    if (hud.alerts.size() >= 5) break;
+  }
+  std::stable_sort(hud.alerts.begin(), hud.alerts.end(), [](const HudAlert& a, const HudAlert& b) {
+    return static_cast<int>(a.level) > static_cast<int>(b.level);
+  });
+  return hud;
+}
+
+void draw_gauge(const char* label, double value, double full, double warn, double danger,
+                const char* value_text, float width) {
+  ImGui::TextUnformatted(label);
+  const float w = width > 0 ? width : ImGui::GetContentRegionAvail().x;
+  const float h = ImGui::GetFrameHeight();
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  const ImVec2 p1(p0.x + w, p0.y + h);
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->AddRectFilled(p0, p1, color_u32(ImVec4(0.16f, 0.17f, 0.20f, 1.0f)), 3.0f);
+  const double fraction = full > 0 ? std::clamp(value / full, 0.0, 1.0) : 0.0;
+  const ImVec4& fill = danger > 0 && value >= danger ? ui_colors::kDanger
+                       : warn > 0 && value >= warn   ? ui_colors::kWarning
+                                                     : ui_colors::kOk;
+  dl->AddRectFilled(p0, ImVec2(p0.x + static_cast<float>(fraction) * w, p1.y), color_u32(fill),
+                    3.0f);
+  // Limit marks: a tick where each limit lies on the scale.
+  auto mark = [&](double at, const ImVec4& c) {
+    if (at <= 0 || full <= 0 || at > full) return;
+    const float x = p0.x + static_cast<float>(at / full) * w;
+    dl->AddLine(ImVec2(x, p0.y - 2), ImVec2(x, p1.y + 2), color_u32(c), 2.0f);
+  };
+  mark(warn, ui_colors::kWarning);
+  mark(danger, ui_colors::kDanger);
+  const ImVec2 text_size = ImGui::CalcTextSize(value_text);
+  dl->AddText(ImVec2(p0.x + (w - text_size.x) * 0.5f, p0.y + (h - text_size.y) * 0.5f),
+              IM_COL32(255, 255, 255, 255), value_text);
+  ImGui::Dummy(ImVec2(w, h));
+}
+
+void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* actions) {
+  const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                                 ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings;
+  const float margin = 10.0f;
+
+  // Module: title and goal, top left.
+  const float goal_width = std::min(460.0f, display.x * 0.42f);
+  ImGui::SetNextWindowPos(ImVec2(margin, margin));
+  ImGui::SetNextWindowSize(ImVec2(goal_width, 0));
+  ImGui::Begin("Module", nullptr, fixed | ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::TextColored(ui_colors::kInfo, "%s", hud.title.c_str());
+  ImGui::PushTextWrapPos(goal_width - 12.0f);
+  ImGui::TextUnformatted(hud.goal.c_str());
+  ImGui::PopTextWrapPos();
+  ImGui::TextColored(ui_colors::kMuted, "Input: %s", hud.input_label.c_str());
+  ImGui::End();
+
+  // Status: time, removal, force and shaft load, top right.
+  const float status_width = std::min(330.0f, display.x * 0.3f);
+  ImGui::SetNextWindowPos(ImVec2(display.x - status_width - margin, margin));
+  ImGui::SetNextWindowSize(ImVec2(status_width, 0));
+  ImGui::Begin("Status", nullptr, fixed | ImGuiWindowFlags_AlwaysAutoResize);
+  char text[128];
+  if (hud.time_limit_s > 0) {
+    const double left = std::max(0.0, hud.time_limit_s - hud.t_s);
+    std::snprintf(text, sizeof text, "%.1f s elapsed, %.1f s left", hud.t_s, left);
+    draw_gauge("Time", hud.t_s, hud.time_limit_s, 0.8 * hud.time_limit_s, 0.95 * hud.time_limit_s,
+               text);
+  } else {
+    ImGui::Text("Time: %.1f s elapsed", hud.t_s);
+  }
+  const double removed =
+      hud.initial_target > 0 ? static_cast<double>(hud.removed_target) / hud.initial_target : 0.0;
+  std::snprintf(text, sizeof text, "%.1f %%  (%.0f mm³)", 100.0 * removed,
+                hud.removed_target * hud.particle_volume_m3 * 1e9);
+  ImGui::TextUnformatted("Nucleus removed");
+  ImGui::PushStyleColor(ImGuiCol_PlotHistogram, ui_colors::kOk);
+  ImGui::ProgressBar(static_cast<float>(removed), ImVec2(-1, 0), text);
+  ImGui::PopStyleColor();
+  // The force on the hand against the device's rated maximum (amber from 80 %).
+  std::snprintf(text, sizeof text, "%.2f N of %.1f N", hud.hand_force_N, hud.device_max_N);
+  draw_gauge("Force on the hand", hud.hand_force_N, hud.device_max_N * 1.05,
+             0.8 * hud.device_max_N, hud.device_max_N * 0.999, text);
+  // The shaft's bending moment against the overload warning and the yield moment.
+  std::snprintf(text, sizeof text, "%.0f %% of yield",
+                hud.yield_moment_Nm > 0 ? 100.0 * hud.moment_Nm / hud.yield_moment_Nm : 0.0);
+  draw_gauge("Shaft load (overload)", hud.moment_Nm, hud.yield_moment_Nm * 1.2,
+             hud.warning_moment_Nm, hud.yield_moment_Nm, text);
+  ImGui::TextColored(ui_colors::kMuted, "Tissue force %.2f N", hud.tissue_force_N);
+  const bool slow = hud.target_rate_hz > 0 && hud.haptic_rate_hz < 0.95 * hud.target_rate_hz;
+  ImGui::TextColored(slow ? ui_colors::kWarning : ui_colors::kMuted, "Haptic loop %.0f Hz%s",
+                     hud.haptic_rate_hz, slow ? " (below target)" : "");
+  ImGui::End();
+
+  // Alerts: a banner under the module window, most severe first.
+  if (!hud.alerts.empty()) {
+    ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, margin), ImGuiCond_Always, ImVec2(0.5f, 0));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    ImGui::Begin("Alerts", nullptr,
+                 fixed | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoTitleBar);
+    for (const HudAlert& a : hud.alerts)
+      ImGui::TextColored(level_color(a.level), "%s %s",
+                         a.level == AlertLevel::kDanger ? "[!]" : "[~]", a.text.c_str());
+    ImGui::End();
+  }
+
+  // Controls: bottom left.
+  ImGui::SetNextWindowPos(ImVec2(margin, display.y - margin), ImGuiCond_Always, ImVec2(0, 1));
+  ImGui::Begin("Controls", nullptr, fixed | ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::TextColored(ui_colors::kMuted, "Camera: right-drag orbit, wheel zoom, middle-drag pan");
+  if (hud.mouse_mode) {
+    ImGui::TextColored(ui_colors::kMuted, "Instrument: left-drag move, W/S up/down,");
+    ImGui::TextColored(ui_colors::kMuted, "  Q/E tilt blade, A/D roll, Space hold still");
+  }
+  const bool finish = ImGui::Button("Finish attempt (Enter)");
+  ImGui::SameLine();
+  const bool reset = ImGui::Button("Reset camera (R)");
+  ImGui::End();
+  if (actions) {
+    actions->finish = actions->finish || finish;
+    actions->reset_camera = actions->reset_camera || reset;
+  }
+}
+
+ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptRun& run,
+                                   const std::string& status_line) {
+  ScoreScreenModel s;
+  s.title = scenario.title;
+  s.score = run.score.score;
+  s.pass_score = scenario.rubric.pass_score;
+  s.passed = run.score.passed;
+  s.end_reason = attempt_end_name(run.end);
+  s.duration_s = run.record.frames.empty() ? 0.0 : run.record.frames.back().t_s;
+  s.status_line = status_line;
+  s.consecutive_passes_to_master = scenario.rubric.consecutive_passes_to_master;
+  for (const TermScore& t : run.score.terms) {
+    ScoreRow row;
+    row.label = metric_label(t.metric);
+    row.value = t.value;
+    row.score = t.score;
+    row.good = t.score >= 50.0;
+    for (const RubricTerm& r : scenario.rubric.terms) {
+      if (r.metric != t.metric) continue;
+      row.benchmark = format("experts %.3g ± %.2g, ", r.expert_mean, r.expert_sd) +
+                      (r.higher_is_better ? "higher is better" : "lower is better");
+      if (!row.good)
+        s.improvements.push_back(
+            row.label + ": yours " + format("%.3g", t.value) + ", experts " +
+            format("%.3g", r.expert_mean) +
+            (r.higher_is_better ? " - aim higher." : " - aim lower."));
+    }
+    s.rows.push_back(std::move(row));
+  }
+  for (const GateResult& g : run.score.gates) {
+    s.gates.push_back({metric_label(g.metric), g.value, g.max, g.passed});
+    if (!g.passed)
+      s.improvements.push_back(metric_label(g.metric) + ": " + format("%.3g", g.value) +
+                               ", must stay at or below " + format("%.3g", g.max) + ".");
+  }
+  for (const std::string& r : run.score.reasons) {
+    if (std::find(s.improvements.begin(), s.improvements.end(), r) == s.improvements.end())
+      s.improvements.push_back(r);
+  }
+  if (s.improvements.empty())
+    s.improvements.push_back(
+        "Every metric is at expert level or better. Pass " +
+        std::to_string(s.consecutive_passes_to_master) +
+        " attempts in a row to master the module.");
+  return s;
+}
+
+bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
+  const float width = std::min(760.0f, display.x - 40.0f);
+  ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, display.y * 0.5f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSize(ImVec2(width, 0));
+  ImGui::Begin("Score", nullptr,
+               ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
+  ImGui::TextColored(ui_colors::kInfo, "%s", s.title.c_str());
+  ImGui::Text("Ended: %s after %.1f s", s.end_reason.c_str(), s.duration_s);
+  ImGui::Separator();
+  ImGui::SetWindowFontScale(2.0f);
+  ImGui::Text("Score %.1f / 100", s.score);
+  ImGui::SameLine();
+  ImGui::TextColored(s.passed ? ui_colors::kOk : ui_colors::kDanger, "  %s",
+                     s.passed ? "PASSED" : "NOT PASSED");
+  ImGui::SetWindowFontScale(1.0f);
+  ImGui::TextColored(ui_colors::kMuted, "Pass at %.0f, with every safety gate held.",
+                     s.pass_score);
+  ImGui::Spacing();
+  if (ImGui::BeginTable("metrics", 4,
+                        ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
+                            ImGuiTableFlags_SizingStretchProp)) {
+    ImGui::TableSetupColumn("Metric", ImGuiTableColumnFlags_WidthStretch, 2.2f);
+    ImGui::TableSetupColumn("Yours", ImGuiTableColumnFlags_WidthStretch, 0.8f);
+    ImGui::TableSetupColumn("Benchmark", ImGuiTableColumnFlags_WidthStretch, 2.4f);
+    ImGui::TableSetupColumn("Score", ImGuiTableColumnFlags_WidthStretch, 0.7f);
+    ImGui::TableHeadersRow();
+    for (const ScoreRow& r : s.rows) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(r.label.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%.3g", r.value);
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(r.benchmark.c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextColored(r.good ? ui_colors::kOk : ui_colors::kWarning, "%.0f", r.score);
+    }
+    for (const GateRow& g : s.gates) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::Text("Safety: %s", g.label.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%.3g", g.value);
+      ImGui::TableNextColumn();
+      ImGui::Text("at most %.3g", g.max);
+      ImGui::TableNextColumn();
+      ImGui::TextColored(g.passed ? ui_colors::kOk : ui_colors::kDanger, "%s",
+                         g.passed ? "held" : "FAILED");
+    }
+    ImGui::EndTable();
+  }
+  ImGui::Spacing();
+  ImGui::TextUnformatted("What to improve");
+  for (const std::string& line : s.improvements) ImGui::BulletText("%s", line.c_str());
+  if (!s.status_line.empty()) {
+    ImGui::Spacing();
+    ImGui::TextColored(ui_colors::kMuted, "%s", s.status_line.c_str());
+  }
+  ImGui::Spacing();
+  const bool close = ImGui::Button("Close (Enter)");
+  ImGui::End();
+  return close;
+}
+
+}  // namespace acdr

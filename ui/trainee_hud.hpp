@@ -1,0 +1,107 @@
+// The trainee view's Dear ImGui overlay, as plain functions of plain models so the same code
+// draws into the window and into offscreen test pictures:
+//  - the HUD while the attempt runs: module title and goal, elapsed and remaining time, a force
+//    gauge against the device's rated maximum, the shaft load against its overload warning and
+//    yield, nucleus removed as a progress bar, alerts (zone, overload, device), controls;
+//  - the score screen at the end: composite score, pass/fail, each metric against its
+//    benchmark, safety gates, and what to improve.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <imgui.h>
+
+#include "engine/haptic_loop.hpp"
+#include "scenarios/scenario_model.hpp"
+#include "ui/attempt_runner.hpp"
+#include "ui/live_attempt.hpp"
+
+namespace acdr {
+
+enum class AlertLevel { kInfo, kWarning, kDanger };
+
+struct HudAlert {
+  AlertLevel level = AlertLevel::kInfo;
+  std::string text;
+};
+
+/// Everything the HUD shows, in SI units.
+struct HudModel {
+  std::string title;
+  std::string goal;
+  std::string input_label;        ///< "mouse", "udp:7000", "replay:..."
+  double t_s = 0.0;
+  double time_limit_s = 0.0;      ///< 0: none
+  double hand_force_N = 0.0;      ///< force rendered to the device (after safety limits)
+  double device_max_N = 0.0;      ///< the device's rated maximum
+  double tissue_force_N = 0.0;    ///< instrument force on material and walls
+  double moment_Nm = 0.0;         ///< shaft bending moment
+  double warning_moment_Nm = 0.0;
+  double yield_moment_Nm = 0.0;
+  int removed_target = 0;         ///< particles of nucleus removed
+  int initial_target = 0;
+  double particle_volume_m3 = 0.0;
+  double haptic_rate_hz = 0.0;    ///< achieved haptic loop rate
+  double target_rate_hz = 0.0;
+  bool mouse_mode = false;        ///< the mouse drives the instrument (show the mapping)
+  std::vector<HudAlert> alerts;   ///< most severe first
+};
+
+/// The HUD model of a live view: live state (moment, force, stale input) and events of the
+/// last `recent_s` seconds (zones, overload, clamping, rejected input) become alerts.
+HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summary,
+                        const LiveView& view, const HapticLoopStats& haptics,
+                        const std::string& input_label, double recent_s = 2.0);
+
+/// What the trainee asked for through the HUD this frame.
+struct HudActions {
+  bool finish = false;        ///< "Finish attempt" pressed: score what was done
+  bool reset_camera = false;
+};
+
+/// Draws the HUD for a display of `display` pixels. `actions` may be null.
+void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* actions);
+
+/// One row of the score screen's metric table.
+struct ScoreRow {
+  std::string label;
+  double value = 0.0;
+  std::string benchmark;   ///< "experts 0.15 ± 0.05, higher is better"
+  double score = 0.0;      ///< 0..100
+  bool good = true;        ///< at or better than the expert mean - 0 SD (score >= 50)
+};
+
+struct GateRow {
+  std::string label;
+  double value = 0.0;
+  double max = 0.0;
+  bool passed = true;
+};
+
+struct ScoreScreenModel {
+  std::string title;
+  double score = 0.0;
+  double pass_score = 50.0;
+  bool passed = false;
+  std::string end_reason;   ///< "time limit", "input ended", ...
+  double duration_s = 0.0;
+  std::vector<ScoreRow> rows;
+  std::vector<GateRow> gates;
+  std::vector<std::string> improvements;  ///< what to improve, in words
+  std::string status_line;  ///< e.g. "Stored as attempt 12"
+  int consecutive_passes_to_master = 2;
+};
+
+ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptRun& run,
+                                   const std::string& status_line);
+
+/// Draws the score screen centred on the display; returns true when "Close" was pressed.
+bool draw_score_screen(const ScoreScreenModel& score, const ImVec2& display);
+
+/// A horizontal gauge: `value` on a 0..`full` scale with coloured limit marks; the bar turns
+/// amber past `warn` and red past `danger` (either may be <= 0 to disable).
+void draw_gauge(const char* label, double value, double full, double warn, double danger,
+                const char* value_text, float width = -1.0f);
+
+}  // namespace acdr
