@@ -248,10 +248,21 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   }
   awake_.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) awake_[i] = fixed_[i] ? 0 : 1;
-  halo_.assign(n, 0);
   wake_next_.assign(n, 0);
   calm_.assign(n, 0);
+  release_.assign(n, 0);
+  pressure_.assign(n, 0.0);
+  body_force_.assign(n, Vec3::Zero());
   active_.assign(n, 0);
+  active_count_ = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (awake_[i]) active_[active_count_++] = static_cast<std::int32_t>(i);
+  fixed_list_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (fixed_[i]) fixed_list_.push_back(static_cast<std::int32_t>(i));
+  wake_list_.assign(n, 0);
+  wake_count_ = 0;
+  stamp_.assign(n, 0);
 
   const std::size_t nb = setup.bonds.size();
   bond_ij_.resize(2 * nb);
@@ -259,8 +270,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   bond_k_.resize(nb);
   bond_break_.resize(nb);
   bond_alive_.assign(nb, 1);
-  bond_n_.assign(nb, Vec3::Zero());
-  bond_a_.assign(nb, 0.0);
+  bond_in_pair_.assign(nb, 0);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto& bond = setup.bonds[b];
     assert(bond.i >= 0 && bond.j >= 0 && std::size_t(bond.i) < n && std::size_t(bond.j) < n);
@@ -271,39 +281,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
     bond_k_[b] = bond.stiffness_N_m;
     bond_break_[b] = bond.break_stretch_m;
   }
-
-  // Fixed capacities: nothing below allocates during step().
-  grid_.reserve(std::max<std::size_t>(n, 1));
-  const std::size_t pair_cap = std::max<std::size_t>(16, n * options_.max_neighbors / 2);
-  pair_ij_.resize(2 * pair_cap);
-  pair_n_.resize(pair_cap);
-  pair_r_.resize(pair_cap);
-  pair_visc_.resize(pair_cap);
-  pair_bond_.resize(pair_cap);
-  far_ij_.resize(2 * pair_cap);
-  far_n_.resize(pair_cap);
-  far_r_.resize(pair_cap);
-  far_bond_.resize(pair_cap);
-  skin_ = options_.skin_factor * h_;
-  {
-    // Candidates within R + skin: the lattice count within that reach, with room for 50 %
-    // compression of the neighbourhood.
-    std::size_t lattice = 0;
-    const double reach = options_.neighbor_radius_factor + options_.skin_factor;
-    const int m = static_cast<int>(std::ceil(reach));
-    for (int a = -m; a <= m; ++a)
-      for (int b = -m; b <= m; ++b)
-        for (int c = -m; c <= m; ++c)
-          if (a * a + b * b + c * c > 0 && a * a + b * b + c * c < reach * reach) ++lattice;
-    const std::size_t cand_cap = std::max<std::size_t>(16, n * lattice * 3 / 4);
-    cand_ij_.resize(2 * cand_cap);
-    cand_bond_.resize(cand_cap);
-  }
-  x_built_.assign(n, Vec3::Zero());
-  candidates_valid_ = false;
-  bond_in_pair_.assign(nb, 0);
-  loose_.assign(nb, 0);
-  // Bonds of each particle (CSR), to find a pair's bond.
+  loose_possible_ = false;
+  for (std::size_t b = 0; b < nb; ++b)
+    if (bond_break_[b] <= 0.0 || bond_rest_[b] + bond_break_[b] >= radius_) loose_possible_ = true;
+  // Bonds of each particle (CSR), in bond order.
   bond_adj_start_.assign(n + 1, 0);
   for (std::size_t b = 0; b < nb; ++b) {
     ++bond_adj_start_[bond_ij_[2 * b] + 1];
@@ -318,28 +299,79 @@ void Nucleus::init(std::span<const Collider> static_colliders,
       bond_adj_[cursor[bond_ij_[2 * b + 1]]++] = static_cast<std::int32_t>(b);
     }
   }
-  pair_g_.resize(pair_cap);
+  loose_.assign(nb, 0);
+  loose_ij_.assign(2 * nb, 0);
+  loose_n_.assign(nb, Vec3::Zero());
+  loose_a_.assign(nb, 0.0);
+
+  // Fixed capacities: nothing below allocates during step().
+  skin_ = options_.skin_factor * h_;
+  std::size_t lattice = 0;  // lattice sites within R + skin
+  {
+    const double reach = options_.neighbor_radius_factor + options_.skin_factor;
+    const int mm = static_cast<int>(std::ceil(reach));
+    for (int a = -mm; a <= mm; ++a)
+      for (int b = -mm; b <= mm; ++b)
+        for (int c = -mm; c <= mm; ++c)
+          if (a * a + b * b + c * c > 0 && a * a + b * b + c * c < reach * reach) ++lattice;
+  }
+  grid_.reserve(std::max<std::size_t>(n, 1));
+  x_built_.assign(n, Vec3::Zero());
+  grid_valid_ = false;
+  epoch_ = 0;
+  row_epoch_.assign(n, 0);
+  row_start_.assign(n, 0);
+  row_len_.assign(n, 0);
+  // Every particle's row once per grid build, with room for 50 % compression.
+  const std::size_t row_cap = std::max<std::size_t>(64, n * (lattice * 3 / 2 + 8));
+  row_j_.assign(row_cap, 0);
+  row_bond_.assign(row_cap, -1);
+  row_used_ = 0;
+  partner_bond_.assign(n, -1);
+
+  local_.assign(n, -1);
+  lg_.assign(n, 0);
+  na_ = nh_ = nl_ = 0;
+  pair_cap_ = std::max<std::size_t>(16, n * std::max<std::size_t>(options_.max_neighbors, 1) / 2);
+  pair_i_.assign(pair_cap_, 0);
+  pair_j_.assign(pair_cap_, 0);
+  pair_n_.assign(pair_cap_, Vec3::Zero());
+  pair_r_.assign(pair_cap_, 0.0);
+  pair_a_.assign(pair_cap_, 0.0);
+  pair_g_.assign(pair_cap_, 0.0);
+  pair_bond_.assign(pair_cap_, -1);
+  kernel_.assign(pair_cap_, PairKernel{0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  row_near_.assign(n + 1, 0);
+  row_far_.assign(n + 1, 0);
+
   second_moment_.assign(n, 0.0);
   density_.assign(n, 0.0);
   constraint_.assign(n, 0.0);
   press_coef_.assign(n, 0.0);
-  pressure_.assign(n, 0.0);
-  body_force_.assign(n, Vec3::Zero());
-  wall_c_.assign(n, Eigen::Matrix3d::Zero());
   visc_coef_.assign(n, 0.0);
-  wall_g_.assign(n, Vec3::Zero());
+  mass_l_.assign(n, 0.0);
   rhs_.assign(n, Vec3::Zero());
-  diag_inv_.assign(n, Eigen::Matrix3d::Identity());
-  con_count_.assign(n, 0);
-  con_e_.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
-  con_v_.assign(n, Vec3::Zero());
-  release_.assign(n, 0);
-  walls_.resize(kMaxWallHitsPerParticle * n + 16);
+  diag_inv_.assign(n, {1, 1, 1, 0, 0, 0});
+  vel_.assign(n, Vec3::Zero());
   r_.assign(n, Vec3::Zero());
   z_.assign(n, Vec3::Zero());
   p_.assign(n, Vec3::Zero());
   q_.assign(n, Vec3::Zero());
   s_.assign(n, 0.0);
+  wall_particle_.assign(n, 0);
+  wall_c_.assign(n, Eigen::Matrix3d::Zero());
+  wall_g_.assign(n, Vec3::Zero());
+  wall_slot_.assign(n, -1);
+  wall_particles_ = 0;
+  con_particle_.assign(n, 0);
+  con_count_.assign(n, 0);
+  con_e_.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  con_v_.assign(n, Vec3::Zero());
+  con_slot_.assign(n, -1);
+  con_particles_ = 0;
+  near_colliders_.assign(n, 0);
+  all_colliders_.assign(n, 0);
+  walls_.resize(kMaxWallHitsPerParticle * n + 16);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -407,11 +439,19 @@ Vec3 Nucleus::min_image(const Vec3& d) const {
 
 // ------------------------------------------------------------------------------------------
 // The step
+//
+// Performance layout (issue 5). Only the particles a step needs take part in it: the awake
+// ones, the halo of sleeping particles within R of them, and the outer neighbours of the
+// halo, numbered compactly (local indices) so the solver's vectors are contiguous. Neighbours
+// come from per-particle Verlet rows (R + skin) that are rebuilt only after something moved
+// half a skin; pairs are split into those with an awake particle (all the solver's iterations
+// need) and the rest (only for densities). Nothing here loops over all particles or all bonds.
 
 void Nucleus::step(double dt, std::span<const Collider> moving,
                    std::span<BodyReaction> reactions, NumericalReport& report) {
   report = NumericalReport{};
   assert(moving.size() <= std::size_t(kMaxMoving) && "too many moving colliders");
+  assert(statics_.size() + moving.size() <= 32 && "collider masks hold 32 colliders");
   assert(dt > 0.0);
   for (auto& r : reactions) {
     r.force_N = Vec3::Zero();
@@ -423,9 +463,16 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   for (std::size_t m = 0; m < moving.size(); ++m)
     end_pose_[m] = advance(moving[m].pose, moving[m].linear_velocity_m_s,
                            moving[m].angular_velocity_rad_s, dt);
-  std::copy(x_.begin(), x_.end(), x_start_.begin());
-  std::fill(body_force_.begin(), body_force_.end(), Vec3::Zero());
+  // The last step's particles leave the local numbering (and their body forces reset: only
+  // they were written).
+  for (std::size_t k = 0; k < nl_; ++k) {
+    body_force_[lg_[k]] = Vec3::Zero();
+    local_[lg_[k]] = -1;
+  }
+  na_ = nh_ = nl_ = 0;
+  pairs_overflow_ = false;
 
+  update_grid();
   wake_and_sleep(moving, dt);
   build_pairs();
   if (pairs_overflow_) {
@@ -461,210 +508,388 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   break_bonds();
 }
 
+// The grid of the Verlet rows is rebuilt once a particle has moved skin / 2 since the last
+// build (then no pair closer than R can be missing from the rows: each end moved less than
+// skin / 2). Only awake and fixed particles move, so only they are checked.
+void Nucleus::update_grid() {
+  bool rebuild = !grid_valid_;
+  const double half_skin2 = 0.25 * skin_ * skin_;
+  for (std::size_t k = 0; k < active_count_ && !rebuild; ++k) {
+    const std::int32_t i = active_[k];
+    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
+  }
+  for (std::size_t k = 0; k < fixed_list_.size() && !rebuild; ++k) {
+    const std::int32_t i = fixed_list_[k];
+    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
+  }
+  if (!rebuild) return;
+  grid_.build(x_, radius_ + skin_, options_.periodic, options_.periodic_min_m,
+              options_.periodic_max_m);
+  std::copy(x_.begin(), x_.end(), x_built_.begin());
+  ++epoch_;
+  row_used_ = 0;
+  grid_valid_ = true;
+  ++grid_builds_;
+  // Re-sort the awake list by particle index (it grows by appending between builds), which
+  // keeps the local numbering close to the lattice order.
+  if (active_count_ > 0) {
+    std::size_t n_awake = 0;
+    for (std::size_t i = 0; i < x_.size(); ++i)
+      if (awake_[i]) active_[n_awake++] = static_cast<std::int32_t>(i);
+    active_count_ = n_awake;
+  }
+}
+
+// Row i: every particle within R + skin of i at the last grid build, with the bond between
+// them (-1 if none). Computed at most once per grid build, when i first takes part in a step.
+void Nucleus::ensure_row(std::int32_t i) {
+  if (row_epoch_[i] == epoch_) return;
+  row_epoch_[i] = epoch_;
+  const double reach = radius_ + skin_;
+  const double reach2 = reach * reach;
+  // i's bonds by partner (a live bond wins over a broken one between the same particles).
+  for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
+    const std::int32_t b = bond_adj_[k];
+    const std::int32_t other = bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b];
+    if (partner_bond_[other] < 0 || !bond_alive_[partner_bond_[other]]) partner_bond_[other] = b;
+  }
+  const std::size_t start = row_used_;
+  const std::size_t cap = row_j_.size();
+  const Vec3 xi = x_built_[i];
+  grid_.for_each_near(xi, [&](std::int32_t j, const Vec3& xj) {
+    if (j == i) return;
+    if (!(min_image(xj - xi).squaredNorm() < reach2)) return;
+    if (row_used_ >= cap) {
+      pairs_overflow_ = true;
+      return;
+    }
+    row_j_[row_used_] = j;
+    row_bond_[row_used_] = partner_bond_[j];
+    ++row_used_;
+  });
+  for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
+    const std::int32_t b = bond_adj_[k];
+    partner_bond_[bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b]] = -1;
+  }
+  row_start_[i] = static_cast<std::int32_t>(start);
+  row_len_[i] = static_cast<std::int32_t>(row_used_ - start);
+}
+
+namespace {
+
+/// World-space bounding box of a collider; false when it has none (a half-space).
+bool collider_bounds(const Collider& c, Vec3* lo, Vec3* hi) {
+  Vec3 e = Vec3::Zero();
+  switch (c.kind) {
+    case ColliderKind::kHalfSpace: return false;
+    case ColliderKind::kBox:
+      e = c.pose.orientation.toRotationMatrix().cwiseAbs() * c.half_extents_m;
+      break;
+    case ColliderKind::kCapsule:
+      e = c.pose.orientation.toRotationMatrix().cwiseAbs() * Vec3(0, 0, c.half_length_m) +
+          Vec3::Constant(c.radius_m);
+      break;
+    case ColliderKind::kCupShell: e = Vec3::Constant(c.radius_m); break;
+  }
+  *lo = c.pose.position - e;
+  *hi = c.pose.position + e;
+  return true;
+}
+
+/// Distance from p to the box [lo, hi] (0 inside): a lower bound of the distance to any solid
+/// inside the box.
+inline double box_gap(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).norm();
+}
+
+}  // namespace
+
 // Sleep: a particle slower than sleep_speed for a while and farther than sleep_distance from
 // every moving collider is frozen (kept out of the solve, acting as a fixed neighbour). It
 // wakes when a moving collider comes near, an awake neighbour moves, or a bond of it breaks.
+// Only particles that can change state are visited: the awake ones, those queued to wake, and
+// those in grid cells near a moving collider.
 void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
   const std::size_t n = x_.size();
-  active_count_ = 0;
+  if (!solver_.sleep_enabled) {
+    // Everything that is not fixed is integrated (the "skip off" case).
+    if (active_count_ + fixed_list_.size() != n) {
+      active_count_ = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        awake_[i] = fixed_[i] ? 0 : 1;
+        if (awake_[i]) active_[active_count_++] = static_cast<std::int32_t>(i);
+      }
+    }
+    for (std::size_t k = 0; k < wake_count_; ++k) wake_next_[wake_list_[k]] = 0;
+    wake_count_ = 0;
+    return;
+  }
   const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (fixed_[i]) {
-      awake_[i] = 0;
-      continue;
-    }
-    if (!solver_.sleep_enabled) {
-      awake_[i] = 1;
+  const double sleep_d = solver_.sleep_distance_m;
+  // Waking first, on the states at the start of the step: particles near a moving collider
+  // (marked with this step's stamp, which the awake ones' calm count reads below) and those
+  // queued (an awake neighbour moved, a bond broke). New awake particles are kept in lg_
+  // (free until build_pairs) and appended to the awake list at the end.
+  ++stamp_value_;
+  const std::int32_t near_mark = stamp_value_;
+  std::size_t woken = 0;
+  auto wake = [&](std::int32_t i) {
+    if (fixed_[i] || awake_[i]) return;
+    awake_[i] = 1;
+    calm_[i] = 0;
+    lg_[woken++] = i;
+  };
+  for (const Collider& c : moving) {
+    auto test = [&](std::int32_t j) {
+      if (stamp_[j] == near_mark || fixed_[j]) return;
+      if (!(signed_distance(c, x_[j], nullptr) < sleep_d)) return;
+      stamp_[j] = near_mark;
+      wake(j);
+    };
+    Vec3 lo, hi;
+    if (collider_bounds(c, &lo, &hi)) {
+      // The grid holds positions up to skin / 2 old: the query box is widened by that.
+      const Vec3 pad = Vec3::Constant(sleep_d + 0.5 * skin_);
+      grid_.for_each_in_box(lo - pad, hi + pad, [&](std::int32_t j, const Vec3&) { test(j); });
     } else {
-      bool near = false;
-      for (const auto& c : moving)
-        if (signed_distance(c, x_[i], nullptr) < solver_.sleep_distance_m) {
-          near = true;
-          break;
-        }
-      if (awake_[i]) {
-        const bool calm = !near && v_[i].squaredNorm() < slow2;
-        calm_[i] = calm ? static_cast<std::uint16_t>(std::min(calm_[i] + 1, 60000)) : 0;
-        if (calm_[i] >= kCalmStepsToSleep) {
-          awake_[i] = 0;
-          v_[i] = Vec3::Zero();
-        }
-      } else if (near || wake_next_[i]) {
-        awake_[i] = 1;
-        calm_[i] = 0;
-      }
+      for (std::size_t j = 0; j < n; ++j) test(static_cast<std::int32_t>(j));
     }
+  }
+  const std::size_t was_awake = active_count_;
+  for (std::size_t k = 0; k < wake_count_; ++k) {
+    const std::int32_t i = wake_list_[k];
     wake_next_[i] = 0;
-    if (awake_[i]) active_[active_count_++] = static_cast<std::int32_t>(i);
+    wake(i);
   }
-}
-
-// Candidate pairs (a Verlet list, Verlet 1967): every pair closer than R + skin, found on the
-// hashed grid and kept until some particle has moved more than skin / 2 since, so no pair
-// within R can be missing. Rebuilding costs a grid query per particle; a step between rebuilds
-// only re-measures the candidates.
-void Nucleus::rebuild_candidates() {
-  const std::size_t n = x_.size();
-  const double reach = radius_ + skin_;
-  grid_.build(x_, reach, options_.periodic, options_.periodic_min_m, options_.periodic_max_m);
-  const double reach2 = reach * reach;
-  candidates_ = 0;
-  const std::size_t cap = cand_bond_.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    grid_.for_each_candidate(i, [&](std::size_t j) {
-      if (j <= i) return;
-      if (min_image(x_[j] - x_[i]).squaredNorm() >= reach2) return;
-      if (candidates_ >= cap) {
-        pairs_overflow_ = true;
-        return;
-      }
-      std::int32_t bond = -1;
-      for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
-        const std::int32_t b = bond_adj_[k];
-        if (bond_ij_[2 * b] + bond_ij_[2 * b + 1] == std::int32_t(i + j)) {
-          bond = b;
-          break;
-        }
-      }
-      cand_ij_[2 * candidates_] = static_cast<std::int32_t>(i);
-      cand_ij_[2 * candidates_ + 1] = static_cast<std::int32_t>(j);
-      cand_bond_[candidates_] = bond;
-      ++candidates_;
-    });
-  }
-  std::copy(x_.begin(), x_.end(), x_built_.begin());
-  candidates_valid_ = true;
-}
-
-void Nucleus::build_pairs() {
-  const std::size_t n = x_.size();
-  pairs_overflow_ = false;
-  // Rebuild the candidates when some particle has moved more than skin / 2 since.
-  bool rebuild = !candidates_valid_;
-  const double half_skin2 = 0.25 * skin_ * skin_;
-  for (std::size_t i = 0; i < n && !rebuild; ++i)
-    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
-  if (rebuild) rebuild_candidates();
-
-  const double R2 = radius_ * radius_;
-  std::fill(halo_.begin(), halo_.end(), 0);
-  // Halo: frozen particles next to awake ones. Their density must be complete (they push on
-  // the awake ones through their pressure), so their pairs are kept too.
-  if (active_count_ < n) {
-    for (std::size_t c = 0; c < candidates_; ++c) {
-      const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
-      if (awake_[i] == awake_[j]) continue;
-      const std::int32_t sleeper = awake_[i] ? j : i;
-      if (halo_[sleeper]) continue;
-      if (min_image(x_[j] - x_[i]).squaredNorm() < R2) halo_[sleeper] = 1;
-    }
-  }
-  // Pairs closer than the density radius ("near": they carry pressure as well as viscosity)
-  // come first, [0, near_pairs_); the others follow. A pair that is also a live bond records it,
-  // so the solver applies both with one coefficient along the same direction.
-  pairs_ = 0;
-  near_pairs_ = 0;
-  std::size_t far = 0;
-  const std::size_t cap = pair_r_.size();
-  const double Rd2 = density_radius_ * density_radius_;
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) bond_in_pair_[b] = 0;
-  for (std::size_t c = 0; c < candidates_; ++c) {
-    const std::int32_t i = cand_ij_[2 * c], j = cand_ij_[2 * c + 1];
-    if (!awake_[i] && !halo_[i] && !awake_[j] && !halo_[j]) continue;
-    const Vec3 d = min_image(x_[j] - x_[i]);
-    const double r2 = d.squaredNorm();
-    if (r2 >= R2 || r2 <= 0.0) continue;
-    if (near_pairs_ + far >= cap) {
-      pairs_overflow_ = true;
-      break;
-    }
-    std::int32_t bond = cand_bond_[c];
-    if (bond >= 0 && !bond_alive_[bond]) bond = -1;
-    if (bond >= 0) bond_in_pair_[bond] = 1;
-    const double r = std::sqrt(r2);
-    if (r2 < Rd2) {
-      const std::size_t p = near_pairs_++;
-      pair_ij_[2 * p] = i;
-      pair_ij_[2 * p + 1] = j;
-      pair_r_[p] = r;
-      pair_n_[p] = d / r;
-      pair_bond_[p] = bond;
+  wake_count_ = 0;
+  // Particles awake at the start of the step: calm steps, and sleep after enough of them.
+  std::size_t survivors = 0;
+  for (std::size_t k = 0; k < was_awake; ++k) {
+    const std::int32_t i = active_[k];
+    const bool calm = stamp_[i] != near_mark && v_[i].squaredNorm() < slow2;
+    calm_[i] = calm ? static_cast<std::uint16_t>(std::min(calm_[i] + 1, 60000)) : 0;
+    if (calm_[i] >= kCalmStepsToSleep) {
+      awake_[i] = 0;
+      v_[i] = Vec3::Zero();
     } else {
-      const std::size_t p = far++;
-      far_ij_[2 * p] = i;
-      far_ij_[2 * p + 1] = j;
-      far_r_[p] = r;
-      far_n_[p] = d / r;
-      far_bond_[p] = bond;
+      active_[survivors++] = i;
     }
   }
-  pairs_ = near_pairs_ + far;
-  for (std::size_t p = 0; p < far; ++p) {
-    const std::size_t q = near_pairs_ + p;
-    pair_ij_[2 * q] = far_ij_[2 * p];
-    pair_ij_[2 * q + 1] = far_ij_[2 * p + 1];
-    pair_r_[q] = far_r_[p];
-    pair_n_[q] = far_n_[p];
-    pair_bond_[q] = far_bond_[p];
+  for (std::size_t k = 0; k < woken; ++k) active_[survivors + k] = lg_[k];
+  active_count_ = survivors + woken;
+}
+
+// This step's particles in local numbering and their pairs. The awake particles' rows give
+// the pairs with an awake particle and, as their sleeping neighbours within R, the halo; the
+// halo's rows give the remaining pairs (the halo's densities must be complete) and the outer
+// particles. Pairs split by reach: near ones (density radius) from the front of the arrays,
+// far ones from the back.
+void Nucleus::build_pairs() {
+  const double R2 = radius_ * radius_;
+  const double Rd2 = density_radius_ * density_radius_;
+  const std::size_t cap = pair_cap_;
+  near_ = far_ = 0;
+  na_ = active_count_;
+  for (std::size_t k = 0; k < na_; ++k) {
+    const std::int32_t i = active_[k];
+    lg_[k] = i;
+    local_[i] = static_cast<std::int32_t>(k);
+    x_start_[i] = x_[i];
   }
+  nh_ = na_;
+  auto emit = [&](std::int32_t li, std::int32_t lj, const Vec3& d, double r2, std::int32_t bond) {
+    if (near_ + far_ >= cap) {
+      pairs_overflow_ = true;
+      return;
+    }
+    const std::size_t p = r2 < Rd2 ? near_++ : cap - 1 - far_++;
+    const double r = std::sqrt(r2);
+    pair_i_[p] = li;
+    pair_j_[p] = lj;
+    pair_r_[p] = r;
+    pair_n_[p] = d / r;
+    if (bond >= 0 && !bond_alive_[bond]) bond = -1;
+    pair_bond_[p] = bond;
+    if (bond >= 0 && loose_possible_) bond_in_pair_[bond] = 1;
+  };
+  for (std::size_t k = 0; k < na_; ++k) {
+    const std::int32_t i = lg_[k];
+    ensure_row(i);
+    row_near_[k] = static_cast<std::int32_t>(near_);
+    row_far_[k] = static_cast<std::int32_t>(far_);
+    const std::int32_t* rj = row_j_.data() + row_start_[i];
+    const std::int32_t* rb = row_bond_.data() + row_start_[i];
+    const Vec3 xi = x_[i];
+    for (std::int32_t c = 0; c < row_len_[i]; ++c) {
+      const std::int32_t j = rj[c];
+      std::int32_t lj = local_[j];
+      if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;  // awake, counted from j
+      const Vec3 d = min_image(x_[j] - xi);
+      const double r2 = d.squaredNorm();
+      if (r2 >= R2 || r2 <= 0.0) continue;
+      if (lj < 0) {  // a sleeping neighbour: halo
+        lj = static_cast<std::int32_t>(nh_++);
+        local_[j] = lj;
+        lg_[lj] = j;
+      }
+      emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
+    }
+  }
+  near_awake_ = near_;
+  far_awake_ = far_;
+  nl_ = nh_;
+  for (std::size_t k = na_; k < nh_; ++k) {
+    const std::int32_t i = lg_[k];
+    ensure_row(i);
+    row_near_[k] = static_cast<std::int32_t>(near_);
+    row_far_[k] = static_cast<std::int32_t>(far_);
+    const std::int32_t* rj = row_j_.data() + row_start_[i];
+    const std::int32_t* rb = row_bond_.data() + row_start_[i];
+    const Vec3 xi = x_[i];
+    for (std::int32_t c = 0; c < row_len_[i]; ++c) {
+      const std::int32_t j = rj[c];
+      std::int32_t lj = local_[j];
+      // Awake neighbours were paired from their side, halo ones from the lower index.
+      if (lj >= 0 && lj < static_cast<std::int32_t>(nh_) && lj <= static_cast<std::int32_t>(k))
+        continue;
+      const Vec3 d = min_image(x_[j] - xi);
+      const double r2 = d.squaredNorm();
+      if (r2 >= R2 || r2 <= 0.0) continue;
+      if (lj < 0) {
+        lj = static_cast<std::int32_t>(nl_++);
+        local_[j] = lj;
+        lg_[lj] = j;
+      }
+      emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
+    }
+  }
+  row_near_[nh_] = static_cast<std::int32_t>(near_);
+  row_far_[nh_] = static_cast<std::int32_t>(far_);
+  pairs_ = near_ + far_;
   // Bonds stretched beyond the interaction radius (possible only when delta_max > R - L) are
-  // applied on their own.
+  // applied on their own; the other end joins the step if it is not in it yet.
+  // A live bond is at most L + delta_max long at the start of a step (longer ones broke at the
+  // end of the last one), so when every bond's L + delta_max is inside R there are none.
   loose_bonds_ = 0;
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
-    if (!bond_alive_[b] || bond_in_pair_[b]) continue;
-    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    if (!awake_[i] && !awake_[j]) continue;
-    loose_[loose_bonds_++] = static_cast<std::int32_t>(b);
+  for (std::size_t k = 0; k < (loose_possible_ ? na_ : 0); ++k) {
+    const std::int32_t i = lg_[k];
+    for (std::int32_t a = bond_adj_start_[i]; a < bond_adj_start_[i + 1]; ++a) {
+      const std::int32_t b = bond_adj_[a];
+      if (!bond_alive_[b] || bond_in_pair_[b]) continue;
+      const std::int32_t j = bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b];
+      std::int32_t lj = local_[j];
+      if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;  // awake, counted from j
+      if (lj < 0) {
+        lj = static_cast<std::int32_t>(nl_++);
+        local_[j] = lj;
+        lg_[lj] = j;
+      }
+      // Oriented as the bond is (i -> j in bond order), like a pair.
+      const bool forward = bond_ij_[2 * b] == i;
+      loose_[loose_bonds_] = b;
+      loose_ij_[2 * loose_bonds_] = forward ? static_cast<std::int32_t>(k) : lj;
+      loose_ij_[2 * loose_bonds_ + 1] = forward ? lj : static_cast<std::int32_t>(k);
+      ++loose_bonds_;
+    }
   }
+  if (loose_possible_) {
+    for (std::size_t p = 0; p < near_; ++p)
+      if (pair_bond_[p] >= 0) bond_in_pair_[pair_bond_[p]] = 0;
+    for (std::size_t p = cap - far_; p < cap; ++p)
+      if (pair_bond_[p] >= 0) bond_in_pair_[pair_bond_[p]] = 0;
+  }
+  frozen_moving_ = false;
+  for (std::size_t k = na_; k < nl_; ++k) frozen_moving_ = frozen_moving_ || fixed_[lg_[k]];
   // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
   if (solver_.sleep_enabled) {
     const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
-    for (std::size_t p = 0; p < pairs_; ++p) {
-      const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-      if (awake_[i] && !awake_[j] && !fixed_[j] && v_[i].squaredNorm() >= slow2) wake_next_[j] = 1;
-      if (awake_[j] && !awake_[i] && !fixed_[i] && v_[j].squaredNorm() >= slow2) wake_next_[i] = 1;
-    }
+    auto propagate = [&](std::size_t p) {
+      const std::int32_t lj = pair_j_[p];
+      if (lj < static_cast<std::int32_t>(na_)) return;
+      const std::int32_t j = lg_[lj];
+      if (fixed_[j] || wake_next_[j]) return;
+      if (v_[lg_[pair_i_[p]]].squaredNorm() >= slow2) {
+        wake_next_[j] = 1;
+        wake_list_[wake_count_++] = j;
+      }
+    };
+    for (std::size_t p = 0; p < near_awake_; ++p) propagate(p);
+    for (std::size_t p = cap - far_awake_; p < cap; ++p) propagate(p);
   }
 }
 
-// Walls: for each particle near a collider, the no-slip coupling, the missing density and
-// second moment of the half-space behind the surface, and the contact constraint.
+// Walls: for each particle of the step near a collider, the no-slip coupling, the density and
+// second moment of the lattice sites inside the solid, and the contact constraint. A collider
+// whose bounding box is farther than any of these reach is skipped (its surface is at least
+// that far), unless culling is switched off.
 void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
-  const std::size_t n = x_.size();
   wall_count_ = 0;
+  wall_particles_ = 0;
+  con_particles_ = 0;
   // A lattice site within R of the particle can be inside the solid only if d < R + h/2.
   const double wall_range = radius_ + 0.5 * h_;
   const std::size_t n_static = statics_.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    density_[i] = 0.0;
-    second_moment_[i] = 0.0;
-    wall_c_[i] = Eigen::Matrix3d::Zero();
-    wall_g_[i] = Vec3::Zero();
-    con_count_[i] = 0;
-    con_v_[i] = Vec3::Zero();
-    if (!awake_[i] && !halo_[i]) continue;
+  const std::size_t n_coll = n_static + moving.size();
+  // Bounding boxes and speed bounds of the colliders.
+  std::array<Vec3, 32> lo, hi;
+  std::array<bool, 32> bounded;
+  for (std::size_t c = 0; c < n_coll; ++c) {
+    const Collider& col = c < n_static ? statics_[c] : moving[c - n_static];
+    bounded[c] = solver_.contact_culling && collider_bounds(col, &lo[c], &hi[c]);
+  }
+  for (std::size_t k = 0; k < nh_; ++k) {
+    density_[k] = 0.0;
+    second_moment_[k] = 0.0;
+    wall_slot_[k] = -1;
+  }
+  for (std::size_t k = 0; k < na_; ++k) {
+    con_slot_[k] = -1;
+    near_colliders_[k] = 0;
+    all_colliders_[k] = solver_.contact_culling ? 0 : 1;
+  }
+  for (std::size_t k = 0; k < nh_; ++k) {
+    const std::int32_t i = lg_[k];
+    const bool awake = k < na_;
+    const Vec3 xi = x_[i];
+    const Vec3 vi = v_[i];
     int hits = 0;
+    Vec3 grad_sum = Vec3::Zero();
     // Contact normals and target normal velocities of this particle (up to 3).
     Vec3 cn[3];
     double ct[3];
     int nc = 0;
-    for (std::size_t k = 0; k < n_static + moving.size(); ++k) {
-      const Collider& c = k < n_static ? statics_[k] : moving[k - n_static];
+    for (std::size_t kc = 0; kc < n_coll; ++kc) {
+      const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
+      if (bounded[kc]) {
+        // The surface is at least box_gap away; the contact reach is at most
+        // contact + 0.1 h + |v_i - v_wall| dt.
+        const double v_wall = kc < n_static ? 0.0
+                                            : c.linear_velocity_m_s.norm() +
+                                                  c.angular_velocity_rad_s.norm() *
+                                                      (xi - c.pose.position).norm();
+        const double reach_bound = contact_ + 0.1 * h_ + (vi.norm() + v_wall) * dt;
+        if (box_gap(xi, lo[kc], hi[kc]) >= std::max(wall_range, reach_bound) * (1.0 + 1e-9))
+          continue;
+      }
       Vec3 normal;
-      const double d = signed_distance(c, x_[i], &normal);
-      const Vec3 vw = k < n_static ? Vec3::Zero() : c.velocity_at(x_[i]);
-      const double vn_rel = (v_[i] - vw).dot(normal);
+      const double d = signed_distance(c, xi, &normal);
+      const Vec3 vw = kc < n_static ? Vec3::Zero() : c.velocity_at(xi);
+      const double vn_rel = (vi - vw).dot(normal);
       const double reach = contact_ + 0.1 * h_ + std::max(0.0, -vn_rel) * dt;
       if (d >= wall_range && d >= reach) continue;
-      if (hits >= kMaxWallHitsPerParticle || wall_count_ >= walls_.size()) continue;
+      if (hits >= kMaxWallHitsPerParticle || wall_count_ >= walls_.size()) {
+        if (awake) all_colliders_[k] = 1;  // not tracked: the projection checks everything
+        continue;
+      }
       ++hits;
+      if (awake) near_colliders_[k] |= 1u << kc;
       WallHit& w = walls_[wall_count_++];
-      w.particle = static_cast<std::int32_t>(i);
-      w.collider = k < n_static ? -1 - static_cast<std::int32_t>(k)
-                                : static_cast<std::int32_t>(k - n_static);
+      w.particle = static_cast<std::int32_t>(k);
+      w.collider = kc < n_static ? -1 - static_cast<std::int32_t>(kc)
+                                 : static_cast<std::int32_t>(kc - n_static);
       w.normal = normal;
       w.v_wall = vw;
-      w.point = x_[i] - d * normal;
+      w.point = xi - d * normal;
       // The solid fills the lattice sites a particle is missing near it: their density, its
       // gradient, and their second moment are counted as neighbours (the role of boundary
       // particles in Akinci et al. 2012), site by site from the signed distance, so edges,
@@ -679,11 +904,11 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       w.grad = Vec3::Zero();
       w.visc = Eigen::Matrix3d::Zero();
       int face_axis = -1;
-      if (d < wall_range && flat_face(c, x_[i], d, normal, &face_axis)) {
+      if (d < wall_range && flat_face(c, xi, d, normal, &face_axis)) {
         // An axis-aligned flat face seen by every site: the sums depend on d only (table).
         const WallTableEntry e = wall_table_at(d);
-        density_[i] += e.n;
-        second_moment_[i] += e.s2;
+        density_[k] += e.n;
+        second_moment_[k] += e.s2;
         w.grad = e.grad * normal;
         w.visc = e.visc_t * Eigen::Matrix3d::Identity();
         w.visc(face_axis, face_axis) = e.visc_n;
@@ -692,27 +917,26 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         for (std::size_t o = 0; o < site_offset_.size(); ++o) {
           // sd(site) >= d - |offset|: a site that far cannot be occupied.
           if (d - site_len_[o] >= 0.5 * h_) continue;
-          const Vec3 q = x_[i] + site_offset_[o];
+          const Vec3 q = xi + site_offset_[o];
           Vec3 nq;
           const double sd = signed_distance(c, q, &nq);
           double slope = 0.0;
           const double occ = occupancy(sd, h_, &slope);
           if (occ <= 0.0) continue;
-          density_[i] += occ * site_w_[o];
-          second_moment_[i] += occ * site_wv_[o] * site_r2_[o];
+          density_[k] += occ * site_w_[o];
+          second_moment_[k] += occ * site_wv_[o] * site_r2_[o];
           w.grad += (slope * site_w_[o] / n0_) * nq;
-          const Vec3 u = site_offset_[o] / std::sqrt(site_r2_[o]);
+          const Vec3 u = site_offset_[o] / site_len_[o];
           w.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
         }
       }
-      wall_g_[i] += w.grad;
+      grad_sum += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
       // is set to what brings the particle exactly to the contact distance, or to its current
       // normal velocity if that is slower (no pull toward the wall). Penetrating particles are
       // stopped in the normal direction and pushed out by position after the solve.
       w.contact = false;
-      if (awake_[i] && d < reach && vn_rel <= 1e-12 && (d < contact_ || !release_[i]) &&
-          nc < 3) {
+      if (awake && d < reach && vn_rel <= 1e-12 && (d < contact_ || !release_[i]) && nc < 3) {
         const double approach = d > contact_ ? -(d - contact_) / dt : 0.0;
         cn[nc] = normal;
         ct[nc] = vw.dot(normal) + std::max(approach, std::min(vn_rel, 0.0));
@@ -720,7 +944,14 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         w.contact = true;
       }
     }
-    if (!awake_[i]) continue;
+    if (hits > 0) {
+      const std::size_t slot = wall_particles_++;
+      wall_slot_[k] = static_cast<std::int32_t>(slot);
+      wall_particle_[slot] = static_cast<std::int32_t>(k);
+      wall_g_[slot] = grad_sum;
+      wall_c_[slot] = Eigen::Matrix3d::Zero();
+    }
+    if (!awake) continue;
     release_[i] = 0;
     // Orthonormal constrained directions (Gram-Schmidt) and the constrained velocity
     // component v_c in their span with n_k . v_c = t_k.
@@ -754,9 +985,12 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         const Vec3 a3 = G3.inverse() * Vec3(used_t[0], used_t[1], used_t[2]);
         vc = a3[0] * used_n[0] + a3[1] * used_n[1] + a3[2] * used_n[2];
       }
-      con_count_[i] = static_cast<std::uint8_t>(ne);
-      for (int a = 0; a < ne; ++a) con_e_[i][a] = e[a];
-      con_v_[i] = vc;
+      const std::size_t slot = con_particles_++;
+      con_slot_[k] = static_cast<std::int32_t>(slot);
+      con_particle_[slot] = static_cast<std::int32_t>(k);
+      con_count_[slot] = static_cast<std::uint8_t>(ne);
+      for (int a = 0; a < ne; ++a) con_e_[slot][a] = e[a];
+      con_v_[slot] = vc;
     }
   }
 }
@@ -825,234 +1059,346 @@ Nucleus::WallTableEntry Nucleus::wall_table_at(double d) const {
           a.visc_n + f * (b.visc_n - a.visc_n), a.visc_t + f * (b.visc_t - a.visc_t)};
 }
 
-// Per-step coefficients, right-hand side and block-Jacobi preconditioner.
+namespace {
+
+/// Symmetric 3x3 block stored as xx, yy, zz, xy, xz, yz.
+using Sym3 = std::array<double, 6>;
+
+inline void add_outer(Sym3& m, double a, const Vec3& n) {
+  m[0] += a * n.x() * n.x();
+  m[1] += a * n.y() * n.y();
+  m[2] += a * n.z() * n.z();
+  m[3] += a * n.x() * n.y();
+  m[4] += a * n.x() * n.z();
+  m[5] += a * n.y() * n.z();
+}
+
+/// Inverse of a symmetric positive definite 3x3 block (adjugate over determinant).
+inline Sym3 inverse(const Sym3& m) {
+  const double xx = m[0], yy = m[1], zz = m[2], xy = m[3], xz = m[4], yz = m[5];
+  const double c00 = yy * zz - yz * yz;
+  const double c01 = xz * yz - xy * zz;
+  const double c02 = xy * yz - xz * yy;
+  const double det = xx * c00 + xy * c01 + xz * c02;
+  const double inv = 1.0 / det;
+  return {c00 * inv,
+          (xx * zz - xz * xz) * inv,
+          (xx * yy - xy * xy) * inv,
+          c01 * inv,
+          c02 * inv,
+          (xy * xz - xx * yz) * inv};
+}
+
+inline Vec3 mul(const Sym3& m, const Vec3& v) {
+  return Vec3(m[0] * v.x() + m[3] * v.y() + m[4] * v.z(),
+              m[3] * v.x() + m[1] * v.y() + m[5] * v.z(),
+              m[4] * v.x() + m[5] * v.y() + m[2] * v.z());
+}
+
+}  // namespace
+
+// Per-step coefficients, right-hand side and block-Jacobi preconditioner. Rows of the system
+// are needed for the awake particles only; pairs without an awake particle enter only the
+// densities and second moments (of the halo). Three passes over the pairs: neighbour sums;
+// then, per pair with an awake particle, its coefficient, its forces on the right-hand side,
+// its share of the diagonal blocks and the solver's compact record.
 void Nucleus::assemble(double dt) {
-  const std::size_t n = x_.size();
   const double R = radius_;
   const double Rd = density_radius_;
+  const std::size_t cap = pair_cap_;
+  const std::size_t far_begin = cap - far_;
+  const std::size_t far_awake_begin = cap - far_awake_;
+  for (std::size_t k = nh_; k < nl_; ++k) {
+    density_[k] = 0.0;  // outer particles: partial sums, never read
+    second_moment_[k] = 0.0;
+  }
   // Neighbour sums: density (kernel units) and second moment.
-  for (std::size_t i = 0; i < n; ++i) density_[i] += 1.0;  // self
-  for (std::size_t p = 0; p < pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
+  for (std::size_t k = 0; k < nh_; ++k) density_[k] += 1.0;  // self
+  for (std::size_t p = 0; p < near_; ++p) {
+    const std::int32_t i = pair_i_[p], j = pair_j_[p];
     const double r = pair_r_[p];
-    if (p < near_pairs_) {
-      const double w = kernel(r, Rd);
-      density_[i] += w;
-      density_[j] += w;
-      pair_g_[p] = kernel_slope(r, Rd) / n0_;
-    }
+    const double w = kernel(r, Rd);
+    density_[i] += w;
+    density_[j] += w;
+    pair_g_[p] = kernel_slope(r, Rd) / n0_;
     const double wv = viscous_weight(r, R);
     second_moment_[i] += wv * r * r;
     second_moment_[j] += wv * r * r;
-    pair_visc_[p] = wv;
+    pair_a_[p] = wv;
   }
-  // Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth moment
-  // sum w r_x^2 r_z^2 / r^2 of the neighbourhood: the stress of the pair operator under a
-  // shear rate gamma is gamma T c / (2 V w), so this gives tau = mu gamma (see the file comment).
-  // T is the rest lattice's t0 scaled by the particle's own weighted second moment S / s0 (for
-  // isotropic directions T = S / 15), so a disordered or compressed neighbourhood is
-  // normalised by what it actually holds. S is floored at 0.6 s0 so a sparse neighbourhood
+  for (std::size_t p = far_begin; p < cap; ++p) {
+    const std::int32_t i = pair_i_[p], j = pair_j_[p];
+    const double r = pair_r_[p];
+    const double wv = viscous_weight(r, R);
+    second_moment_[i] += wv * r * r;
+    second_moment_[j] += wv * r * r;
+    pair_a_[p] = wv;
+  }
+
+  // Per particle. Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth
+  // moment sum w r_x^2 r_z^2 / r^2 of the neighbourhood: the stress of the pair operator under
+  // a shear rate gamma is gamma T c / (2 V w), so this gives tau = mu gamma (see the file
+  // comment). T is the rest lattice's t0 scaled by the particle's own weighted second moment
+  // S / s0 (for isotropic directions T = S / 15), so a disordered or compressed neighbourhood
+  // is normalised by what it actually holds. S is floored at 0.6 s0 so a sparse neighbourhood
   // (free surface, loose particles) does not get an unbounded coefficient.
-  for (std::size_t i = 0; i < n; ++i)
-    visc_coef_[i] = 2.0 * mu_[i] * volume_ * s0_ / (t0_ * std::max(second_moment_[i], 0.6 * s0_));
-  // pair_visc_ becomes the pair's whole implicit coefficient: dt c_ij (+ dt^2 k of its bond).
-  for (std::size_t p = 0; p < pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    pair_visc_[p] *= dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
-    const std::int32_t b = pair_bond_[p];
-    if (b >= 0) pair_visc_[p] += dt * dt * bond_k_[b];
-  }
-  for (std::size_t k = 0; k < wall_count_; ++k) {
-    const WallHit& w = walls_[k];
-    wall_c_[w.particle] += (dt * visc_coef_[w.particle]) * w.visc;
-  }
   // Pressure constraint C_i and which particles carry it (compression only, with a 1 % margin
   // so a particle about to be compressed is already implicit).
-  for (std::size_t i = 0; i < n; ++i) {
-    constraint_[i] = density_[i] / n0_ - 1.0;
-    const bool in = awake_[i] || halo_[i];
-    press_coef_[i] = (in && constraint_[i] > -0.01) ? dt * dt * kappa_[i] * volume_ : 0.0;
+  for (std::size_t k = 0; k < nh_; ++k) {
+    const std::int32_t i = lg_[k];
+    visc_coef_[k] =
+        2.0 * mu_[i] * volume_ * s0_ / (t0_ * std::max(second_moment_[k], 0.6 * s0_));
+    constraint_[k] = density_[k] / n0_ - 1.0;
+    press_coef_[k] = constraint_[k] > -0.01 ? dt * dt * kappa_[i] * volume_ : 0.0;
   }
-
-  // Forces at the start of the step (into rhs_ as dt * f), then M v0.
-  for (std::size_t i = 0; i < n; ++i) rhs_[i] = dt * (mass_[i] * gravity_ + f_ext_[i]);
-  // Bonds: force k (r - L) along the bond (pair bonds along their pair; loose bonds cache
-  // their direction and implicit coefficient dt^2 k for the solver).
-  for (std::size_t p = 0; p < pairs_; ++p) {
-    const std::int32_t b = pair_bond_[p];
-    if (b < 0) continue;
-    const Vec3 f = dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * pair_n_[p];
-    rhs_[pair_ij_[2 * p]] += f;
-    rhs_[pair_ij_[2 * p + 1]] -= f;
+  for (std::size_t k = nh_; k < nl_; ++k) {
+    constraint_[k] = 0.0;
+    press_coef_[k] = 0.0;
+    visc_coef_[k] = 0.0;
   }
-  for (std::size_t k = 0; k < loose_bonds_; ++k) {
-    const std::int32_t b = loose_[k];
-    bond_a_[b] = 0.0;
-    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    const Vec3 d = min_image(x_[j] - x_[i]);
-    const double r = d.norm();
-    if (r <= 0.0) continue;
-    bond_n_[b] = d / r;
-    bond_a_[b] = dt * dt * bond_k_[b];
-    const Vec3 f = dt * bond_k_[b] * (r - bond_rest_[b]) * bond_n_[b];
-    rhs_[i] += f;
-    rhs_[j] -= f;
+  // Right-hand side: forces at the start of the step (as dt * f) and M v0; rows beyond the
+  // awake particles are scratch. Walls: the no-slip tensor, the wall pressure, the no-slip
+  // drag toward a moving wall, and the density change the wall's own motion causes
+  // (s_i = press_coef * sum_w grad . v_w, scattered through grad C below).
+  for (std::size_t k = 0; k < nl_; ++k) {
+    const std::int32_t i = lg_[k];
+    rhs_[k] = dt * (mass_[i] * gravity_ + f_ext_[i]);
   }
-  for (std::size_t p = 0; p < near_pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const double P = kappa_[i] * volume_ * std::max(constraint_[i], 0.0) +
-                     kappa_[j] * volume_ * std::max(constraint_[j], 0.0);
-    const Vec3 f = dt * P * pair_g_[p] * pair_n_[p];
-    rhs_[i] += f;
-    rhs_[j] -= f;
+  for (std::size_t k = 0; k < na_; ++k) {
+    mass_l_[k] = mass_[lg_[k]];
+    rhs_[k] += mass_l_[k] * v_[lg_[k]];
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    rhs_[i] -= dt * kappa_[i] * volume_ * std::max(constraint_[i], 0.0) * wall_g_[i];
-    rhs_[i] += mass_[i] * v_[i];
+  for (std::size_t k = 0; k < nh_; ++k) s_[k] = 0.0;
+  for (std::size_t w = 0; w < wall_count_; ++w) {
+    const WallHit& hit = walls_[w];
+    const std::int32_t k = hit.particle;
+    wall_c_[wall_slot_[k]] += (dt * visc_coef_[k]) * hit.visc;
+    rhs_[k] += (dt * visc_coef_[k]) * (hit.visc * hit.v_wall);
+    s_[k] += hit.grad.dot(hit.v_wall);
   }
-  // Moving walls: no-slip drag toward the wall velocity, and the density change the wall's own
-  // motion causes (s_i = press_coef * sum_w gw n.v_w, scattered through grad C).
-  std::fill(s_.begin(), s_.end(), 0.0);
-  for (std::size_t k = 0; k < wall_count_; ++k) {
-    const WallHit& w = walls_[k];
-    rhs_[w.particle] += (dt * visc_coef_[w.particle]) * (w.visc * w.v_wall);
-    s_[w.particle] += w.grad.dot(w.v_wall);
+  for (std::size_t k = 0; k < nh_; ++k) s_[k] *= press_coef_[k];
+  for (std::size_t w = 0; w < wall_particles_; ++w) {
+    const std::int32_t k = wall_particle_[w];
+    rhs_[k] -= dt * kappa_[lg_[k]] * volume_ * std::max(constraint_[k], 0.0) * wall_g_[w];
+    rhs_[k] += s_[k] * wall_g_[w];
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    s_[i] *= press_coef_[i];
-    rhs_[i] += s_[i] * wall_g_[i];
-  }
-  for (std::size_t p = 0; p < near_pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const Vec3 g = (s_[i] + s_[j]) * pair_g_[p] * pair_n_[p];
-    rhs_[i] -= g;
-    rhs_[j] += g;
-  }
-
-  // Block-Jacobi preconditioner: the 3x3 diagonal blocks of the system matrix.
+  // Block-Jacobi preconditioner: the 3x3 diagonal blocks of the system matrix (awake rows).
   // grad_i C_i = -sum_j g_ij n_ij + wall_g_i, accumulated in q_ as scratch.
-  for (std::size_t i = 0; i < n; ++i) {
-    diag_inv_[i] = mass_[i] * Eigen::Matrix3d::Identity() + wall_c_[i];
-    q_[i] = wall_g_[i];
+  for (std::size_t k = 0; k < nh_; ++k) {
+    const double m = k < na_ ? mass_l_[k] : 1.0;
+    diag_inv_[k] = {m, m, m, 0.0, 0.0, 0.0};
+    q_[k] = Vec3::Zero();
   }
-  for (std::size_t p = 0; p < pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
+  for (std::size_t w = 0; w < wall_particles_; ++w) {
+    const std::int32_t k = wall_particle_[w];
+    const Eigen::Matrix3d& C = wall_c_[w];
+    Sym3& d = diag_inv_[k];
+    d[0] += C(0, 0);
+    d[1] += C(1, 1);
+    d[2] += C(2, 2);
+    d[3] += 0.5 * (C(0, 1) + C(1, 0));
+    d[4] += 0.5 * (C(0, 2) + C(2, 0));
+    d[5] += 0.5 * (C(1, 2) + C(2, 1));
+    q_[k] = wall_g_[w];
+  }
+  // Pairs with an awake particle: the implicit coefficient dt c_ij (+ dt^2 k of its bond),
+  // the bond force k (r - L) along the pair, the pressure force, the wall-motion term, the
+  // diagonal blocks, and the solver's record. The solver's copy is single precision: the
+  // iterations stream it, so its size sets their speed; rounding perturbs the operator by
+  // ~1e-7 relative (far below the solve tolerance) and symmetrically (both ends of a pair read
+  // the same record), so it stays symmetric positive definite.
+  for (std::size_t p = 0; p < near_awake_; ++p) {
+    const std::int32_t i = pair_i_[p], j = pair_j_[p];
     const Vec3& nn = pair_n_[p];
-    const Eigen::Matrix3d nnT = nn * nn.transpose();
-    const double g = p < near_pairs_ ? pair_g_[p] : 0.0;
-    diag_inv_[i] += (pair_visc_[p] + press_coef_[j] * g * g) * nnT;
-    diag_inv_[j] += (pair_visc_[p] + press_coef_[i] * g * g) * nnT;
+    double a = pair_a_[p] * dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+    const double g = pair_g_[p];
+    Vec3 f = (dt * (kappa_[lg_[i]] * volume_ * std::max(constraint_[i], 0.0) +
+                    kappa_[lg_[j]] * volume_ * std::max(constraint_[j], 0.0)) * g -
+              (s_[i] + s_[j]) * g) * nn;
+    const std::int32_t b = pair_bond_[p];
+    if (b >= 0) {
+      a += dt * dt * bond_k_[b];
+      f += dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * nn;
+    }
+    pair_a_[p] = a;
+    rhs_[i] += f;
+    rhs_[j] -= f;
+    add_outer(diag_inv_[i], a + press_coef_[j] * g * g, nn);
+    add_outer(diag_inv_[j], a + press_coef_[i] * g * g, nn);
     q_[i] -= g * nn;
     q_[j] += g * nn;
+    kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                  static_cast<float>(nn.z()), static_cast<float>(a), static_cast<float>(g)};
   }
+  for (std::size_t p = far_awake_begin; p < cap; ++p) {
+    const std::int32_t i = pair_i_[p], j = pair_j_[p];
+    const Vec3& nn = pair_n_[p];
+    double a = pair_a_[p] * dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+    const std::int32_t b = pair_bond_[p];
+    if (b >= 0) {
+      a += dt * dt * bond_k_[b];
+      const Vec3 f = dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * nn;
+      rhs_[i] += f;
+      rhs_[j] -= f;
+    }
+    pair_a_[p] = a;
+    add_outer(diag_inv_[i], a, nn);
+    add_outer(diag_inv_[j], a, nn);
+    kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                  static_cast<float>(nn.z()), static_cast<float>(a), 0.0f};
+  }
+  // Pairs without an awake particle never act on an awake row (coefficient 0); their density
+  // gradient still matters when a frozen particle moves (a full apply).
+  for (std::size_t p = near_awake_; p < near_; ++p) {
+    pair_a_[p] = 0.0;
+    kernel_[p] = {pair_j_[p], static_cast<float>(pair_n_[p].x()),
+                  static_cast<float>(pair_n_[p].y()), static_cast<float>(pair_n_[p].z()), 0.0f,
+                  static_cast<float>(pair_g_[p])};
+  }
+  for (std::size_t p = far_begin; p < far_awake_begin; ++p) {
+    pair_a_[p] = 0.0;
+    kernel_[p] = {pair_j_[p], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  }
+  // Loose bonds cache their direction and implicit coefficient dt^2 k for the solver.
   for (std::size_t k = 0; k < loose_bonds_; ++k) {
     const std::int32_t b = loose_[k];
-    if (bond_a_[b] == 0.0) continue;
-    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    const Eigen::Matrix3d K = bond_a_[b] * bond_n_[b] * bond_n_[b].transpose();
-    diag_inv_[i] += K;
-    diag_inv_[j] += K;
+    loose_a_[k] = 0.0;
+    const std::int32_t li = loose_ij_[2 * k], lj = loose_ij_[2 * k + 1];
+    const Vec3 d = min_image(x_[lg_[lj]] - x_[lg_[li]]);
+    const double r = d.norm();
+    if (r <= 0.0) continue;
+    loose_n_[k] = d / r;
+    loose_a_[k] = dt * dt * bond_k_[b];
+    const Vec3 f = dt * bond_k_[b] * (r - bond_rest_[b]) * loose_n_[k];
+    rhs_[li] += f;
+    rhs_[lj] -= f;
+    add_outer(diag_inv_[li], loose_a_[k], loose_n_[k]);
+    add_outer(diag_inv_[lj], loose_a_[k], loose_n_[k]);
   }
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
-    diag_inv_[i] += press_coef_[i] * q_[i] * q_[i].transpose();
-    diag_inv_[i] = diag_inv_[i].inverse().eval();
+  for (std::size_t k = 0; k < na_; ++k) {
+    add_outer(diag_inv_[k], press_coef_[k], q_[k]);
+    diag_inv_[k] = inverse(diag_inv_[k]);
   }
 }
 
-// y = A x for the system matrix A = M + dt C + dt^2 K (+ wall terms). Entries of frozen
-// particles in x must be zero; y is meaningful on awake particles.
-void Nucleus::apply(std::span<const Vec3> x, std::span<Vec3> y) {
-  const std::size_t n = x_.size();
-  auto& s = s_;
-  for (std::size_t i = 0; i < n; ++i) {
-    y[i] = mass_[i] * x[i] + wall_c_[i] * x[i];
-    s[i] = wall_g_[i].dot(x[i]);
+// y = A x for the system matrix A = M + dt C + dt^2 K (+ wall terms), on the awake rows.
+// x must be zero on the frozen particles unless `full`; then every pair is applied (needed
+// when a frozen particle is fixed and moves, so its velocity is not zero). Rows of y beyond
+// the awake particles are scratch. Pairs are walked row by row (all pairs of local particle i
+// have i as their first end and a larger second end), so the first end's sums stay in
+// registers.
+void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
+  const std::size_t rows = full ? nh_ : na_;   // rows whose pairs are applied
+  const std::size_t span = full ? nl_ : nh_;   // particles those pairs reach
+  const std::size_t cap = pair_cap_;
+  double* s = s_.data();
+  const double* m = mass_l_.data();
+  for (std::size_t k = 0; k < na_; ++k) y[k] = m[k] * x[k];
+  for (std::size_t k = na_; k < span; ++k) y[k] = Vec3::Zero();
+  for (std::size_t k = 0; k < span; ++k) s[k] = 0.0;
+  for (std::size_t w = 0; w < wall_particles_; ++w) {
+    const std::int32_t k = wall_particle_[w];
+    y[k] += wall_c_[w] * x[k];
+    s[k] = wall_g_[w].dot(x[k]);
   }
   // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
   for (std::size_t k = 0; k < loose_bonds_; ++k) {
-    const std::int32_t b = loose_[k];
-    if (bond_a_[b] == 0.0) continue;
-    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    const Vec3& nn = bond_n_[b];
-    const Vec3 f = bond_a_[b] * nn.dot(x[j] - x[i]) * nn;
+    const std::int32_t i = loose_ij_[2 * k], j = loose_ij_[2 * k + 1];
+    const Vec3& nn = loose_n_[k];
+    const Vec3 f = loose_a_[k] * nn.dot(x[j] - x[i]) * nn;
     y[i] -= f;
     y[j] += f;
   }
   // Viscosity and pair bonds (a n n^T on the relative velocity), and on near pairs the
   // divergence pass of the pressure.
-  for (std::size_t p = 0; p < near_pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const Vec3& nn = pair_n_[p];
-    const double dn = nn.dot(x[j] - x[i]);
-    const Vec3 f = pair_visc_[p] * dn * nn;
-    y[i] -= f;
-    y[j] += f;
-    const double div = pair_g_[p] * dn;
-    s[i] += div;
-    s[j] += div;
-  }
-  for (std::size_t p = near_pairs_; p < pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const Vec3& nn = pair_n_[p];
-    const Vec3 f = (pair_visc_[p] * nn.dot(x[j] - x[i])) * nn;
-    y[i] -= f;
-    y[j] += f;
+  const PairKernel* kr = kernel_.data();
+  const std::int32_t* rn = row_near_.data();
+  const std::int32_t* rf = row_far_.data();
+  for (std::size_t i = 0; i < rows; ++i) {
+    const Vec3 xi = x[i];
+    Vec3 yi = Vec3::Zero();
+    double si = 0.0;
+    for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
+      const PairKernel& e = kr[p];
+      const Vec3 nn(e.nx, e.ny, e.nz);
+      const double dn = nn.dot(x[e.j] - xi);
+      const Vec3 f = (e.a * dn) * nn;
+      yi -= f;
+      y[e.j] += f;
+      const double div = e.g * dn;
+      si += div;
+      s[e.j] += div;
+    }
+    // Far pairs of row i sit at [cap - rf[i+1], cap - rf[i]).
+    for (std::size_t p = cap - rf[i + 1]; p < cap - rf[i]; ++p) {
+      const PairKernel& e = kr[p];
+      const Vec3 nn(e.nx, e.ny, e.nz);
+      const Vec3 f = (e.a * nn.dot(x[e.j] - xi)) * nn;
+      yi -= f;
+      y[e.j] += f;
+    }
+    y[i] += yi;
+    s[i] += si;
   }
   // Gradient pass: y += sum_k coef_k (grad C_k . x) grad C_k.
-  for (std::size_t i = 0; i < n; ++i) {
-    s[i] *= press_coef_[i];
-    y[i] += s[i] * wall_g_[i];
+  const double* pc = press_coef_.data();
+  for (std::size_t k = 0; k < span; ++k) s[k] *= pc[k];
+  for (std::size_t w = 0; w < wall_particles_; ++w) {
+    const std::int32_t k = wall_particle_[w];
+    y[k] += s[k] * wall_g_[w];
   }
-  for (std::size_t p = 0; p < near_pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const Vec3 g = (s[i] + s[j]) * pair_g_[p] * pair_n_[p];
-    y[i] -= g;
-    y[j] += g;
-  }
-}
-
-}  // namespace acdr
-
-namespace acdr {
-
-// Removes the constrained components (Baraff & Witkin 1998 filter S).
-void Nucleus::filter(std::span<Vec3> v) const {
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
-    for (int a = 0; a < con_count_[i]; ++a) v[i] -= con_e_[i][a] * con_e_[i][a].dot(v[i]);
+  for (std::size_t i = 0; i < rows; ++i) {
+    const double si = s[i];
+    Vec3 yi = Vec3::Zero();
+    for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
+      const PairKernel& e = kr[p];
+      const Vec3 g = ((si + s[e.j]) * e.g) * Vec3(e.nx, e.ny, e.nz);
+      yi -= g;
+      y[e.j] += g;
+    }
+    y[i] += yi;
   }
 }
 
-// Filtered, block-Jacobi preconditioned conjugate gradients on the awake particles, warm
-// started from the previous velocities (the flow changes little between 1 ms ticks).
+// Filtered, block-Jacobi preconditioned conjugate gradients on the awake particles (Baraff &
+// Witkin 1998: the filter removes the constrained components), warm started from the previous
+// velocities (the flow changes little between 1 ms ticks).
 void Nucleus::solve(NumericalReport& report) {
-  const std::size_t n = x_.size();
+  const std::size_t na = na_;
+  Vec3* v = vel_.data();
+  Vec3* r = r_.data();
+  Vec3* z = z_.data();
+  Vec3* p = p_.data();
+  Vec3* q = q_.data();
+  auto filter = [&](Vec3* u) {
+    for (std::size_t c = 0; c < con_particles_; ++c) {
+      const std::int32_t k = con_particle_[c];
+      for (int a = 0; a < con_count_[c]; ++a) u[k] -= con_e_[c][a] * con_e_[c][a].dot(u[k]);
+    }
+  };
   // Initial guess: previous velocity with its constrained components replaced; frozen
   // particles hold still (fixed ones move at their prescribed velocity).
-  for (std::size_t i = 0; i < n; ++i) {
-    if (fixed_[i]) v_[i] = fixed_v_[i];
-    else if (!awake_[i]) v_[i] = Vec3::Zero();
+  for (std::size_t k = 0; k < na; ++k) v[k] = v_[lg_[k]];
+  for (std::size_t c = 0; c < con_particles_; ++c) {
+    const std::int32_t k = con_particle_[c];
+    Vec3 u = v[k];
+    for (int a = 0; a < con_count_[c]; ++a) u -= con_e_[c][a] * con_e_[c][a].dot(u);
+    v[k] = u + con_v_[c];
   }
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
-    Vec3 v = v_[i];
-    for (int a = 0; a < con_count_[i]; ++a) v -= con_e_[i][a] * con_e_[i][a].dot(v);
-    v_[i] = v + con_v_[i];
+  for (std::size_t k = na; k < nl_; ++k) {
+    const std::int32_t i = lg_[k];
+    v[k] = fixed_[i] ? fixed_v_[i] : Vec3::Zero();
   }
-  apply(v_, q_);
+  for (const std::int32_t i : fixed_list_) v_[i] = fixed_v_[i];
+  apply(v, q, frozen_moving_);
   double b_norm2 = 0.0, g_norm2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    r_[i] = Vec3::Zero();
-    p_[i] = Vec3::Zero();
+  const double g2 = gravity_.squaredNorm();
+  for (std::size_t k = 0; k < na; ++k) {
+    r[k] = rhs_[k] - q[k];
+    b_norm2 += rhs_[k].squaredNorm();
+    g_norm2 += mass_l_[k] * mass_l_[k] * g2;
   }
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
-    r_[i] = rhs_[i] - q_[i];
-    b_norm2 += rhs_[i].squaredNorm();
-    g_norm2 += mass_[i] * mass_[i] * gravity_.squaredNorm();
-  }
-  filter(r_);
+  filter(r);
   // Tolerance relative to the right-hand side, but never below the weight impulse scale: at
   // rest the right-hand side cancels almost exactly and a purely relative test would ask for
   // round-off.
@@ -1060,57 +1406,45 @@ void Nucleus::solve(NumericalReport& report) {
   const double tol = solver_.tolerance * scale;
   double rz = 0.0;
   double r_norm = 0.0;
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
-    z_[i] = diag_inv_[i] * r_[i];
+  for (std::size_t k = 0; k < na; ++k) z[k] = mul(diag_inv_[k], r[k]);
+  filter(z);
+  for (std::size_t k = 0; k < na; ++k) {
+    p[k] = z[k];
+    rz += r[k].dot(z[k]);
+    r_norm += r[k].squaredNorm();
   }
-  filter(z_);
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
-    p_[i] = z_[i];
-    rz += r_[i].dot(z_[i]);
-    r_norm += r_[i].squaredNorm();
-  }
+  // The iterations apply only pairs with an awake particle: p is zero on the halo.
+  for (std::size_t k = na; k < nh_; ++k) p[k] = Vec3::Zero();
   r_norm = std::sqrt(r_norm);
   int it = 0;
   const int max_it = std::max(1, solver_.max_iterations);
   while (r_norm > tol && it < max_it) {
-    apply(p_, q_);
-    filter(q_);
+    apply(p, q, false);
+    filter(q);
     double pq = 0.0;
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      pq += p_[i].dot(q_[i]);
-    }
+    for (std::size_t k = 0; k < na; ++k) pq += p[k].dot(q[k]);
     if (!(pq > 0.0)) break;  // converged to round-off (or a non-finite value, caught later)
     const double alpha = rz / pq;
     double rz_new = 0.0;
-    r_norm = 0.0;
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      v_[i] += alpha * p_[i];
-      r_[i] -= alpha * q_[i];
-      r_norm += r_[i].squaredNorm();
+    double rn = 0.0;
+    // r stays filtered (q is), so r . z equals r . (filtered z): the dot product is taken
+    // before the filter.
+    for (std::size_t k = 0; k < na; ++k) {
+      v[k] += alpha * p[k];
+      r[k] -= alpha * q[k];
+      rn += r[k].squaredNorm();
+      z[k] = mul(diag_inv_[k], r[k]);
+      rz_new += r[k].dot(z[k]);
     }
-    r_norm = std::sqrt(r_norm);
+    r_norm = std::sqrt(rn);
     ++it;
     if (r_norm <= tol) break;
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      z_[i] = diag_inv_[i] * r_[i];
-    }
-    filter(z_);
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      rz_new += r_[i].dot(z_[i]);
-    }
+    filter(z);
     const double beta = rz_new / rz;
     rz = rz_new;
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
-      p_[i] = z_[i] + beta * p_[i];
-    }
+    for (std::size_t k = 0; k < na; ++k) p[k] = z[k] + beta * p[k];
   }
+  for (std::size_t k = 0; k < na; ++k) v_[lg_[k]] = v[k];
   report.iterations = it;
   report.residual = scale > 0.0 ? r_norm / scale : 0.0;
   if (!std::isfinite(r_norm)) {
@@ -1124,56 +1458,66 @@ void Nucleus::solve(NumericalReport& report) {
 // and the wall part of the pressure. Also the particle pressures for output.
 void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving,
                                      std::span<BodyReaction> reactions) {
-  const std::size_t n = x_.size();
+  const Vec3* v = vel_.data();
+  const std::size_t rows = frozen_moving_ ? nl_ : nh_;
   // Divergence of the solved velocity (relative to moving walls): C at the end of the step is
   // C + dt * s, and the pressure kappa * that.
-  for (std::size_t i = 0; i < n; ++i) s_[i] = wall_g_[i].dot(v_[i]);
-  for (std::size_t k = 0; k < wall_count_; ++k) {
-    const WallHit& w = walls_[k];
-    s_[w.particle] -= w.grad.dot(w.v_wall);
+  for (std::size_t k = 0; k < rows; ++k) s_[k] = 0.0;
+  for (std::size_t w = 0; w < wall_particles_; ++w) {
+    const std::int32_t k = wall_particle_[w];
+    s_[k] = wall_g_[w].dot(v[k]);
   }
-  for (std::size_t p = 0; p < near_pairs_; ++p) {
-    const std::int32_t i = pair_ij_[2 * p], j = pair_ij_[2 * p + 1];
-    const double div = pair_g_[p] * pair_n_[p].dot(v_[j] - v_[i]);
+  for (std::size_t w = 0; w < wall_count_; ++w) {
+    const WallHit& hit = walls_[w];
+    s_[hit.particle] -= hit.grad.dot(hit.v_wall);
+  }
+  const std::size_t near_end = frozen_moving_ ? near_ : near_awake_;
+  for (std::size_t p = 0; p < near_end; ++p) {
+    const std::int32_t i = pair_i_[p], j = pair_j_[p];
+    const double div = pair_g_[p] * pair_n_[p].dot(v[j] - v[i]);
     s_[i] += div;
     s_[j] += div;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (press_coef_[i] > 0.0) pressure_[i] = std::max(0.0, kappa_[i] * (constraint_[i] + dt * s_[i]));
-    else if (awake_[i] || halo_[i]) pressure_[i] = 0.0;
+  for (std::size_t k = 0; k < nh_; ++k) {
+    const std::int32_t i = lg_[k];
+    pressure_[i] = press_coef_[k] > 0.0
+                       ? std::max(0.0, kappa_[i] * (constraint_[k] + dt * s_[k]))
+                       : 0.0;
   }
   // Contact forces: the constrained part of A v - b, divided by dt (q_ = A v).
   bool any_contact = false;
-  for (std::size_t k = 0; k < wall_count_ && !any_contact; ++k) any_contact = walls_[k].contact;
-  if (any_contact) apply(v_, q_);
+  for (std::size_t w = 0; w < wall_count_ && !any_contact; ++w) any_contact = walls_[w].contact;
+  if (any_contact) apply(v, q_.data(), frozen_moving_);
 
-  std::size_t k = 0;
-  while (k < wall_count_) {
+  std::size_t w0 = 0;
+  while (w0 < wall_count_) {
     // The hits of one particle are consecutive.
-    const std::int32_t i = walls_[k].particle;
-    std::size_t end = k;
-    while (end < wall_count_ && walls_[end].particle == i) ++end;
+    const std::int32_t k = walls_[w0].particle;
+    const std::int32_t i = lg_[k];
+    std::size_t end = w0;
+    while (end < wall_count_ && walls_[end].particle == k) ++end;
     // Split the constraint force over this particle's contacts: lambda = sum_a a_k n_k.
     double share[kMaxWallHitsPerParticle] = {0, 0, 0, 0};
-    if (awake_[i] && con_count_[i] > 0) {
-      Vec3 lambda = (q_[i] - rhs_[i]) / dt;
+    const std::int32_t cs = k < static_cast<std::int32_t>(na_) ? con_slot_[k] : -1;
+    if (cs >= 0) {
+      Vec3 lambda = (q_[k] - rhs_[k]) / dt;
       Vec3 constrained = Vec3::Zero();
-      for (int a = 0; a < con_count_[i]; ++a)
-        constrained += con_e_[i][a] * con_e_[i][a].dot(lambda);
+      for (int a = 0; a < con_count_[cs]; ++a)
+        constrained += con_e_[cs][a] * con_e_[cs][a].dot(lambda);
       lambda = constrained;
       int idx[3];
       int nc = 0;
-      for (std::size_t h = k; h < end && nc < 3; ++h)
-        if (walls_[h].contact) idx[nc++] = static_cast<int>(h - k);
+      for (std::size_t h = w0; h < end && nc < 3; ++h)
+        if (walls_[h].contact) idx[nc++] = static_cast<int>(h - w0);
       if (nc == 1) {
-        share[idx[0]] = lambda.dot(walls_[k + idx[0]].normal);
+        share[idx[0]] = lambda.dot(walls_[w0 + idx[0]].normal);
       } else if (nc > 1) {
         Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
         Vec3 rhs = Vec3::Zero();
         for (int a = 0; a < nc; ++a) {
-          rhs[a] = walls_[k + idx[a]].normal.dot(lambda);
+          rhs[a] = walls_[w0 + idx[a]].normal.dot(lambda);
           for (int b = 0; b < nc; ++b)
-            G(a, b) = walls_[k + idx[a]].normal.dot(walls_[k + idx[b]].normal);
+            G(a, b) = walls_[w0 + idx[a]].normal.dot(walls_[w0 + idx[b]].normal);
         }
         const Vec3 sol = G.ldlt().solve(rhs);
         for (int a = 0; a < nc; ++a) share[idx[a]] = std::isfinite(sol[a]) ? sol[a] : 0.0;
@@ -1182,16 +1526,16 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
       for (int a = 0; a < nc; ++a)
         if (share[idx[a]] < 0.0) release_[i] = 1;
     }
-    for (std::size_t h = k; h < end; ++h) {
+    for (std::size_t h = w0; h < end; ++h) {
       const WallHit& w = walls_[h];
       if (w.collider < 0) continue;
       const Collider& c = moving[w.collider];
       if (c.body < 0 || static_cast<std::size_t>(c.body) >= reactions.size()) continue;
       BodyReaction& r = reactions[c.body];
       // Force on the body = minus the force on the particle.
-      Vec3 f = -share[h - k] * w.normal;                 // contact
-      const Eigen::Matrix3d C = visc_coef_[i] * w.visc;
-      f += C * (v_[i] - w.v_wall);                       // no-slip drag
+      Vec3 f = -share[h - w0] * w.normal;                // contact
+      const Eigen::Matrix3d C = visc_coef_[k] * w.visc;
+      f += C * (v[k] - w.v_wall);                        // no-slip drag
       f += volume_ * pressure_[i] * w.grad;              // wall pressure (grad points inward)
       r.force_N += f;
       body_force_[i] += f;
@@ -1201,26 +1545,30 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
       r.drag_Ns_m += C.trace();
       r.rot_drag_Nms += C.trace() * arm.squaredNorm();
     }
-    k = end;
+    w0 = end;
   }
 }
 
 // Positions, then the swept contact projection: each particle path is followed in the
 // collider's frame from its start-of-step pose to its end-of-step pose; a path that enters the
-// (h/2-inflated) solid is stopped on the side it came from.
+// (h/2-inflated) solid is stopped on the side it came from. A collider whose surface was
+// beyond the wall range at the start of the step is skipped when the path (relative to the
+// collider) is shorter than the gap: the path cannot reach the inflated surface.
 void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
                                     std::span<BodyReaction> reactions) {
-  const std::size_t n = x_.size();
-  for (std::size_t i = 0; i < n; ++i)
-    if (fixed_[i]) x_[i] += dt * fixed_v_[i];
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
+  for (const std::int32_t i : fixed_list_) x_[i] += dt * fixed_v_[i];
+  for (std::size_t k = 0; k < na_; ++k) {
+    const std::int32_t i = lg_[k];
     x_[i] += dt * v_[i];
   }
   const std::size_t n_static = statics_.size();
   const double tiny = 1e-4 * h_;
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
+  const double wall_range = radius_ + 0.5 * h_;
+  const double free_path = wall_range - contact_ - 0.01 * h_;
+  for (std::size_t k = 0; k < na_; ++k) {
+    const std::int32_t i = lg_[k];
+    const std::uint32_t near_mask = near_colliders_[k];
+    const bool check_all = all_colliders_[k] != 0;
     // Statics, then the moving bodies, then the statics again: a particle squeezed between
     // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
     // overlap with the instrument is pushed out over the next steps).
@@ -1229,6 +1577,16 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
       const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
+      if (!check_all && !(near_mask & (1u << c_idx))) {
+        // Path length in the collider's frame: the particle's displacement plus how far the
+        // collider's material near it moved (|v| dt + |w| dt * distance).
+        double path = (x_[i] - x_start_[i]).norm();
+        if (!is_static)
+          path += (c.linear_velocity_m_s.norm() +
+                   c.angular_velocity_rad_s.norm() * (x_start_[i] - c.pose.position).norm()) *
+                  dt * 1.01;
+        if (path < free_path) continue;
+      }
       const Pose& start = c.pose;
       const Pose& end = is_static ? c.pose : end_pose_[c_idx - n_static];
       const Vec3 p0 = start.inverse_apply(x_start_[i]);
@@ -1306,28 +1664,38 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
     if (!options_.periodic[a]) continue;
     const double lo = options_.periodic_min_m[a];
     const double L = options_.periodic_max_m[a] - lo;
-    for (std::size_t k = 0; k < active_count_; ++k) {
-      const std::size_t i = active_[k];
+    for (std::size_t k = 0; k < na_; ++k) {
+      const std::int32_t i = lg_[k];
       x_[i][a] = lo + (x_[i][a] - lo) - L * std::floor((x_[i][a] - lo) / L);
     }
   }
 }
 
 // Bonds break when their force exceeds k * delta_max, i.e. |stretch| > delta_max
-// (seed Eq. 9-10).
+// (seed Eq. 9-10). Only bonds of awake or fixed particles can have changed length.
 void Nucleus::break_bonds() {
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
-    if (!bond_alive_[b] || bond_break_[b] <= 0.0) continue;
-    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-    if (!awake_[i] && !awake_[j] && !fixed_[i] && !fixed_[j]) continue;
-    const double stretch = min_image(x_[j] - x_[i]).norm() - bond_rest_[b];
-    if (std::abs(stretch) > bond_break_[b]) {
-      bond_alive_[b] = 0;
-      ++broken_;
-      if (!fixed_[i]) wake_next_[i] = 1;
-      if (!fixed_[j]) wake_next_[j] = 1;
+  auto moves = [&](std::int32_t i) { return awake_[i] || fixed_[i]; };
+  auto visit = [&](std::int32_t u) {
+    for (std::int32_t a = bond_adj_start_[u]; a < bond_adj_start_[u + 1]; ++a) {
+      const std::int32_t b = bond_adj_[a];
+      if (!bond_alive_[b] || bond_break_[b] <= 0.0) continue;
+      const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
+      const std::int32_t other = i == u ? j : i;
+      if (moves(other) && other < u) continue;  // visited from the other end
+      const double stretch = min_image(x_[j] - x_[i]).norm() - bond_rest_[b];
+      if (std::abs(stretch) > bond_break_[b]) {
+        bond_alive_[b] = 0;
+        ++broken_;
+        for (const std::int32_t e : {i, j}) {
+          if (fixed_[e] || wake_next_[e]) continue;
+          wake_next_[e] = 1;
+          wake_list_[wake_count_++] = e;
+        }
+      }
     }
-  }
+  };
+  for (std::size_t k = 0; k < active_count_; ++k) visit(active_[k]);
+  for (const std::int32_t i : fixed_list_) visit(i);
 }
 
 }  // namespace acdr

@@ -14,6 +14,7 @@
 
 #include "engine/collider.hpp"
 #include "engine/neighbor_grid.hpp"
+#include "engine/particle_grid.hpp"
 #include "engine/world_config.hpp"
 
 namespace acdr {
@@ -122,13 +123,13 @@ class Nucleus {
 
  private:
   void init(std::span<const Collider> static_colliders, const NucleusParticleSetup& setup);
+  void update_grid();
+  void ensure_row(std::int32_t i);
   void wake_and_sleep(std::span<const Collider> moving, double dt);
   void build_pairs();
-  void rebuild_candidates();
   void setup_walls(double dt, std::span<const Collider> moving);
   void assemble(double dt);
-  void apply(std::span<const Vec3> in, std::span<Vec3> out);
-  void filter(std::span<Vec3> v) const;
+  void apply(const Vec3* x, Vec3* y, bool full);
   void solve(NumericalReport& report);
   void reactions_and_pressure(double dt, std::span<const Collider> moving,
                               std::span<BodyReaction> reactions);
@@ -169,10 +170,10 @@ class Nucleus {
   std::array<WallTableEntry, 1024> wall_table_{};  // flat-face wall sums over d
   double wall_table_lo_ = 0.0, wall_table_step_ = 1.0;
 
-  // Particles (N each).
+  // ---- Particles, by particle index (N each) ----
   std::vector<Vec3> x_;          // positions, m
   std::vector<Vec3> v_;          // velocities, m/s
-  std::vector<Vec3> x_start_;    // positions at step start, m
+  std::vector<Vec3> x_start_;    // positions at step start (awake particles), m
   std::vector<Vec3> f_ext_;      // external forces, N
   std::vector<Vec3> fixed_v_;    // prescribed velocity of fixed particles, m/s
   std::vector<double> mass_;     // kg
@@ -181,72 +182,125 @@ class Nucleus {
   std::vector<std::uint8_t> material_;
   std::vector<std::uint8_t> fixed_;   // 1 = kinematic
   std::vector<std::uint8_t> awake_;   // 1 = integrated this step
-  std::vector<std::uint8_t> halo_;    // 1 = asleep but next to an awake particle
-  std::vector<std::uint8_t> wake_next_;
+  std::vector<std::uint8_t> wake_next_;  // 1 = wakes next step (also listed in wake_list_)
   std::vector<std::uint16_t> calm_;   // consecutive calm steps
-  std::vector<std::int32_t> active_;  // indices integrated this step
+  std::vector<std::uint8_t> release_;  // 1: a contact pulled last step; skip once
+  std::vector<double> pressure_;       // Pa, end of the last step
+  std::vector<Vec3> body_force_;       // N, force on moving bodies by particle, last step
+  std::vector<std::int32_t> active_;   // awake particles this step, ascending
   std::size_t active_count_ = 0;
+  std::vector<std::int32_t> fixed_list_;  // the fixed particles
+  std::vector<std::int32_t> wake_list_;   // particles with wake_next_ set
+  std::size_t wake_count_ = 0;
+  std::vector<std::int32_t> stamp_;       // N, scratch marks (wake candidates)
+  std::int32_t stamp_value_ = 0;
 
-  // Bonds (B each).
+  // ---- Bonds (B each) ----
   std::vector<std::int32_t> bond_ij_;  // 2B
   std::vector<double> bond_rest_;      // m
   std::vector<double> bond_k_;         // N/m
   std::vector<double> bond_break_;     // m, <= 0 unbreakable
   std::vector<std::uint8_t> bond_alive_;
-  std::vector<Vec3> bond_n_;           // unit direction i -> j this step
-  std::vector<double> bond_a_;         // dt^2 k this step, 0 if inactive
+  std::vector<std::uint8_t> bond_in_pair_;  // 1 while a pair of this step carries it
   std::size_t broken_ = 0;
+  std::vector<std::int32_t> bond_adj_start_;  // N + 1: bonds of each particle (CSR)
+  std::vector<std::int32_t> bond_adj_;        // 2B bond indices
+  // Bonds applied on their own this step (stretched beyond R, so in no pair).
+  std::vector<std::int32_t> loose_;     // bond index
+  std::vector<std::int32_t> loose_ij_;  // 2 per loose bond: local indices
+  std::vector<Vec3> loose_n_;           // unit direction i -> j
+  std::vector<double> loose_a_;         // dt^2 k
+  std::size_t loose_bonds_ = 0;
+  bool loose_possible_ = true;          // some bond can outgrow R (unbreakable, or L + delta >= R)
 
-  // Interaction pairs of this step (capacity P).
-  NeighborGrid grid_;
-  std::vector<std::int32_t> pair_ij_;  // 2P
+  // ---- Neighbour rows: a Verlet list (Verlet 1967) per particle ----
+  // Row i holds every particle within R + skin of i at the last grid build. Rows stay exact
+  // until a particle has moved skin / 2 since that build; then the grid is rebuilt and rows
+  // are recomputed lazily, only for particles that take part in a step.
+  double skin_ = 0.0;
+  ParticleGrid grid_;
+  std::vector<Vec3> x_built_;              // N, positions at the last grid build
+  bool grid_valid_ = false;
+  std::uint32_t epoch_ = 0;                // grid builds so far
+  std::vector<std::uint32_t> row_epoch_;   // N, epoch a row was computed in (0: none)
+  std::vector<std::int32_t> row_start_;    // N, offset into row_j_
+  std::vector<std::int32_t> row_len_;      // N
+  std::vector<std::int32_t> row_j_;        // pool: candidate particle
+  std::vector<std::int32_t> row_bond_;     // pool: their bond (any state), -1 if none
+  std::size_t row_used_ = 0;
+  std::vector<std::int32_t> partner_bond_; // N, scratch (-1)
+  bool pairs_overflow_ = false;
+  std::size_t grid_builds_ = 0;
+
+  // ---- This step's particles in a compact local numbering ----
+  // Local [0, na_) are the awake particles (ascending index), [na_, nh_) the halo (asleep
+  // within R of an awake one; their density must be complete), [nh_, nl_) the outer ones
+  // (neighbours of the halo, seen only through their positions and velocities).
+  std::vector<std::int32_t> local_;   // N: particle -> local index, -1 if not in the step
+  std::vector<std::int32_t> lg_;      // local -> particle
+  std::size_t na_ = 0, nh_ = 0, nl_ = 0;
+  bool frozen_moving_ = false;        // a halo/outer particle is fixed and moves
+
+  // ---- Pairs of this step (capacity P) ----
+  // Near pairs (closer than the density radius; they carry pressure too) fill [0, near_)
+  // from the front, those with an awake particle first: [0, near_awake_). Far pairs fill
+  // [cap - far_, cap) from the back, those with an awake particle last:
+  // [cap - far_awake_, cap). The solver's iterations need only the pairs with an awake
+  // particle (the others see zero velocities).
+  std::vector<std::int32_t> pair_i_, pair_j_;  // local indices
   std::vector<Vec3> pair_n_;           // unit vector i -> j
   std::vector<double> pair_r_;         // m
-  std::vector<double> pair_visc_;      // dt * c_ij, N s/m * s
+  std::vector<double> pair_a_;         // implicit coefficient dt c_ij (+ dt^2 k of its bond)
   std::vector<double> pair_g_;         // dW/dr / n0, 1/m (near pairs)
   std::vector<std::int32_t> pair_bond_;  // the pair's live bond, -1 if none
+  // Rows: the pairs of local particle k are near [row_near_[k], row_near_[k+1]) and far
+  // [cap - row_far_[k+1], cap - row_far_[k]) (nh + 1 each).
+  std::vector<std::int32_t> row_near_, row_far_;
+  // The solver's compact copy of each pair (second end, direction, coefficients).
+  struct PairKernel {
+    std::int32_t j;
+    float nx, ny, nz;
+    float a;  // dt c_ij (+ dt^2 k)
+    float g;  // dW/dr / n0 (near pairs), 0 for far ones
+  };
+  std::vector<PairKernel> kernel_;
+  std::size_t pair_cap_ = 0;
+  std::size_t near_ = 0, near_awake_ = 0, far_ = 0, far_awake_ = 0;
   std::size_t pairs_ = 0;
-  std::size_t near_pairs_ = 0;         // pairs [0, near_pairs_) are within the density radius
-  // Verlet candidates: pairs within R + skin at the last rebuild (capacity C).
-  std::vector<std::int32_t> cand_ij_;    // 2C
-  std::vector<std::int32_t> cand_bond_;  // C, the pair's bond at build (-1 none)
-  std::vector<Vec3> x_built_;            // N, positions at the last rebuild, m
-  std::size_t candidates_ = 0;
-  bool candidates_valid_ = false;
-  double skin_ = 0.3e-3;                 // m
-  // Far-pair staging while building (capacity P), then appended after the near pairs.
-  std::vector<std::int32_t> far_ij_;
-  std::vector<Vec3> far_n_;
-  std::vector<double> far_r_;
-  std::vector<std::int32_t> far_bond_;
-  // Bonds per particle (CSR) and this step's bookkeeping.
-  std::vector<std::int32_t> bond_adj_start_;  // N + 1
-  std::vector<std::int32_t> bond_adj_;        // 2B bond indices
-  std::vector<std::uint8_t> bond_in_pair_;    // B
-  std::vector<std::int32_t> loose_;           // bonds not in a pair this step
-  std::size_t loose_bonds_ = 0;
-  bool pairs_overflow_ = false;
 
-  // Per-particle step data (N each).
-  std::vector<double> second_moment_;  // sum r^2 incl. walls, m^2
-  std::vector<double> density_;        // number density sum incl. walls (kernel units)
-  std::vector<double> constraint_;     // C_i = density/n0 - 1
-  std::vector<double> press_coef_;     // dt^2 kappa V if pressure active, else 0
-  std::vector<double> pressure_;       // Pa, end of step
-  std::vector<Vec3> body_force_;       // N, force on moving bodies by particle, last step
-  std::vector<Eigen::Matrix3d> wall_c_;  // dt * no-slip coupling tensor, N s/m * s
-  std::vector<double> visc_coef_;      // 2 mu V s0 / (t0 S_i): viscous coefficient, N s/m
+  // ---- Per-particle step data, local numbering ----
+  std::vector<double> second_moment_;  // nh: sum w r^2 incl. walls, m^2
+  std::vector<double> density_;        // nh: number density sum incl. walls (kernel units)
+  std::vector<double> constraint_;     // nh: C_i = density/n0 - 1
+  std::vector<double> press_coef_;     // nl: dt^2 kappa V if pressure active, else 0
+  std::vector<double> visc_coef_;      // nl: 2 mu V s0 / (t0 S_i): viscous coefficient, N s/m
+  std::vector<double> mass_l_;         // na: kg
+  std::vector<Vec3> rhs_;              // na
+  std::vector<std::array<double, 6>> diag_inv_;  // na: inverse diagonal block (xx yy zz xy xz yz)
+  std::vector<Vec3> vel_;              // nl: velocities being solved for, m/s
+  std::vector<Vec3> r_, z_, p_, q_;    // solver vectors
+  std::vector<double> s_;              // nl: divergence scratch
+  // Particles with walls (local index), their no-slip tensor dt * C_w and density gradient.
+  std::vector<std::int32_t> wall_particle_;
+  std::vector<Eigen::Matrix3d> wall_c_;
   std::vector<Vec3> wall_g_;           // gradient of the wall density term / n0, 1/m
-  std::vector<Vec3> rhs_;
-  std::vector<Eigen::Matrix3d> diag_inv_;
-  std::vector<std::uint8_t> con_count_;     // 0..3 constrained directions
+  std::vector<std::int32_t> wall_slot_;  // nh: index into wall_particle_, -1 if none
+  std::size_t wall_particles_ = 0;
+  // Particles with contact constraints (local index), filter directions and target.
+  std::vector<std::int32_t> con_particle_;
+  std::vector<std::uint8_t> con_count_;     // 1..3 constrained directions
   std::vector<std::array<Vec3, 3>> con_e_;  // orthonormal constrained directions
   std::vector<Vec3> con_v_;                 // constrained velocity component, m/s
-  std::vector<std::uint8_t> release_;       // 1: a contact pulled last step; skip once
+  std::vector<std::int32_t> con_slot_;      // na: index into con_particle_, -1 if none
+  std::size_t con_particles_ = 0;
+  // Collider culling for the contact projection: colliders whose surface was within the wall
+  // range of the particle at the start of the step (bit k for collider k, statics first).
+  std::vector<std::uint32_t> near_colliders_;  // na
+  std::vector<std::uint8_t> all_colliders_;    // na: 1 = check every collider
 
   // Wall interactions (capacity W): a particle near a collider.
   struct WallHit {
-    std::int32_t particle;
+    std::int32_t particle;  // local index
     std::int32_t collider;  // index into moving (>= 0) or -1 - index into statics
     Vec3 grad;              // gradient of the solid's density share / n0, 1/m
     Eigen::Matrix3d visc;   // no-slip coupling tensor in units of the viscous coefficient
@@ -259,10 +313,6 @@ class Nucleus {
   std::size_t wall_count_ = 0;
   static constexpr int kMaxMoving = 16;
   std::array<Pose, kMaxMoving> end_pose_;  // moving collider poses at the end of the step
-
-  // Solver scratch (N each).
-  std::vector<Vec3> r_, z_, p_, q_;
-  std::vector<double> s_;  // per-particle divergence scratch
 };
 
 }  // namespace acdr

@@ -1,0 +1,249 @@
+// Bullet soft-body peer of the nucleus (see bullet_peer.hpp for the configuration).
+#include "bench/bullet_peer.hpp"
+
+#include <BulletSoftBody/btSoftBody.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "engine/instrument.hpp"
+#include "engine/nucleus.hpp"
+#include "engine/rigid_world.hpp"
+
+namespace acdr {
+namespace {
+
+constexpr double kMm = 1000.0;  // metres -> world units (mm)
+constexpr double kInstrumentMass = 1000.0;  // kg: contact impulses barely move it
+
+// Collision groups: statics and the instrument touch only the soft body.
+constexpr int kGroupStatic = 1;
+constexpr int kGroupSoft = 2;
+constexpr int kGroupInstrument = 4;
+
+btVector3 to_bt(const Vec3& v, double scale = kMm) {
+  return btVector3(v.x() * scale, v.y() * scale, v.z() * scale);
+}
+btTransform to_bt(const Pose& p) {
+  const Quat& q = p.orientation;
+  return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), to_bt(p.position));
+}
+
+/// A Bullet shape for one of our colliders (world units mm). The cup shell has no Bullet
+/// counterpart; it becomes the sphere around it (said so in the report).
+btCollisionShape* make_shape(const Collider& c) {
+  btCollisionShape* s = nullptr;
+  switch (c.kind) {
+    case ColliderKind::kBox: s = new btBoxShape(to_bt(c.half_extents_m)); break;
+    case ColliderKind::kCapsule:
+      s = new btCapsuleShapeZ(c.radius_m * kMm, 2.0 * c.half_length_m * kMm);
+      break;
+    case ColliderKind::kCupShell: s = new btSphereShape(c.radius_m * kMm); break;
+    case ColliderKind::kHalfSpace: s = new btStaticPlaneShape(btVector3(0, 0, 1), 0.0); break;
+  }
+  s->setMargin(0.01);
+  return s;
+}
+
+/// Pose along the path at time t after the start (linear in position, slerp in orientation).
+Pose path_at(const Pose& start, const std::vector<Pose>& path, double sample_s, double t) {
+  if (path.empty()) return start;
+  const double u = t / sample_s;  // path[k] is at (k + 1) * sample_s
+  const double k_f = std::floor(u);
+  const auto k = static_cast<long>(k_f);
+  if (k >= static_cast<long>(path.size())) return path.back();
+  const Pose& a = k <= 0 ? start : path[k - 1];
+  const Pose& b = path[std::max<long>(k, 0)];
+  const double w = std::clamp(u - k_f, 0.0, 1.0);
+  Pose p;
+  p.position = (1.0 - w) * a.position + w * b.position;
+  p.orientation = a.orientation.slerp(w, b.orientation);
+  return p;
+}
+
+}  // namespace
+
+RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
+                         const std::vector<Pose>& path, const RunWindow& window,
+                         const PeerSettings& settings,
+                         const std::function<void(double)>& progress) {
+  using Clock = std::chrono::steady_clock;
+  RunTrace out;
+  const double dt = settings.dt_s;
+
+  // The same lattice and bonds as our nucleus: build one and read them back.
+  const std::vector<Collider> statics = build_static_colliders(config);
+  const Nucleus lattice(config.nucleus, config.solver, config.gravity_m_s2, statics);
+  const std::size_t n = lattice.particle_count();
+  const auto x0 = lattice.positions();
+  const auto masses = lattice.masses();
+  const auto bonds = lattice.bond_particles();
+  out.particles = n;
+  out.bonds = lattice.bond_count();
+
+  // World.
+  auto collision_config = std::make_unique<btSoftBodyRigidBodyCollisionConfiguration>();
+  auto dispatcher = std::make_unique<btCollisionDispatcher>(collision_config.get());
+  auto broadphase = std::make_unique<btDbvtBroadphase>();
+  auto solver = std::make_unique<btSequentialImpulseConstraintSolver>();
+  auto world = std::make_unique<btSoftRigidDynamicsWorld>(dispatcher.get(), broadphase.get(),
+                                                          solver.get(), collision_config.get());
+  const btVector3 gravity = to_bt(config.gravity_m_s2);
+  world->setGravity(gravity);
+  btSoftBodyWorldInfo& info = world->getWorldInfo();
+  info.m_gravity = gravity;
+  info.m_dispatcher = dispatcher.get();
+  info.m_broadphase = broadphase.get();
+  info.air_density = 0.0;
+  info.water_density = 0.0;
+  info.m_sparsesdf.Initialize();
+  info.m_sparsesdf.setDefaultVoxelsz(0.25);  // mm
+  info.m_sparsesdf.Reset();
+
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btRigidBody>> bodies;
+  std::vector<std::unique_ptr<btMotionState>> motions;
+  for (const Collider& c : statics) {
+    shapes.emplace_back(make_shape(c));
+    Pose p = c.pose;
+    motions.emplace_back(new btDefaultMotionState(to_bt(p)));
+    btRigidBody::btRigidBodyConstructionInfo ci(0.0, motions.back().get(), shapes.back().get());
+    bodies.emplace_back(new btRigidBody(ci));
+    world->addRigidBody(bodies.back().get(), kGroupStatic, kGroupSoft);
+  }
+
+  // Instrument: a compound of its colliders, heavy, no gravity, touching only the soft body.
+  btRigidBody* instrument = nullptr;
+  if (config.instrument.enabled) {
+    const InstrumentGeometry geometry(config.instrument);
+    auto* compound = new btCompoundShape();
+    shapes.emplace_back(compound);
+    for (const Collider& c : geometry.local_colliders()) {
+      shapes.emplace_back(make_shape(c));
+      compound->addChildShape(to_bt(c.pose), shapes.back().get());
+    }
+    btVector3 inertia(0, 0, 0);
+    compound->calculateLocalInertia(kInstrumentMass, inertia);
+    motions.emplace_back(new btDefaultMotionState(to_bt(start)));
+    btRigidBody::btRigidBodyConstructionInfo ci(kInstrumentMass, motions.back().get(), compound,
+                                                inertia);
+    bodies.emplace_back(new btRigidBody(ci));
+    instrument = bodies.back().get();
+    instrument->setActivationState(DISABLE_DEACTIVATION);
+    world->addRigidBody(instrument, kGroupInstrument, kGroupSoft);
+    instrument->setGravity(btVector3(0, 0, 0));
+    instrument->setDamping(0.0, 0.0);
+  }
+
+  // Soft body: margin first (nodes take the margin in force when they are added).
+  auto soft = std::make_unique<btSoftBody>(&info);
+  // The node-less constructor makes no material; nodes take material 0.
+  soft->getCollisionShape()->setMargin(0.5 * lattice.spacing_m() * kMm);
+  btSoftBody::Material* material = soft->appendMaterial();
+  for (std::size_t i = 0; i < n; ++i) soft->appendNode(to_bt(x0[i]), masses[i]);
+  material->m_kLST = settings.link_stiffness;
+  material->m_kAST = 1.0;
+  material->m_kVST = 1.0;
+  for (std::size_t b = 0; b < lattice.bond_count(); ++b)
+    soft->appendLink(bonds[2 * b], bonds[2 * b + 1], material, false);
+  soft->m_cfg.piterations = std::max(1, settings.position_iterations);
+  soft->m_cfg.kDP = settings.damping;
+  soft->m_cfg.collisions = btSoftBody::fCollision::SDF_RS;
+  soft->setActivationState(DISABLE_DEACTIVATION);
+  world->addSoftBody(soft.get(), kGroupSoft, kGroupStatic | kGroupInstrument);
+
+  // Step.
+  const double duration =
+      window.duration_s > 0.0 ? window.duration_s
+                              : window.sample_s * static_cast<double>(path.size());
+  const auto steps = static_cast<std::int64_t>(std::llround(duration / dt));
+  const auto windows = static_cast<std::size_t>(std::floor(duration / window.sample_s + 1e-9));
+  out.t_s.reserve(windows);
+  out.force_N.reserve(windows);
+  Vec3 f_sum = Vec3::Zero();
+  int f_count = 0;
+  const auto t_start = Clock::now();
+  const double cpu_start = thread_cpu_s();
+  for (std::int64_t k = 0; k < steps; ++k) {
+    const double t = double(k) * dt;
+    Vec3 force = Vec3::Zero();
+    Pose now = path_at(start, path, window.sample_s, t);
+    if (instrument) {
+      const Pose next = path_at(start, path, window.sample_s, t + dt);
+      const Vec3 v = (next.position - now.position) / dt;
+      Quat dq = next.orientation * now.orientation.conjugate();
+      if (dq.w() < 0) dq.coeffs() *= -1.0;
+      const Eigen::AngleAxisd aa(dq);
+      const Vec3 w = aa.axis() * (aa.angle() / dt);
+      const btTransform tr = to_bt(now);
+      instrument->setWorldTransform(tr);
+      instrument->getMotionState()->setWorldTransform(tr);
+      instrument->setInterpolationWorldTransform(tr);
+      const btVector3 v_bt = to_bt(v);
+      const btVector3 w_bt(w.x(), w.y(), w.z());
+      instrument->setLinearVelocity(v_bt);
+      instrument->setAngularVelocity(w_bt);
+      instrument->setInterpolationLinearVelocity(v_bt);
+      instrument->setInterpolationAngularVelocity(w_bt);
+      world->stepSimulation(dt, 0, dt);
+      // Momentum change from the contact impulses (kg mm/s per step -> N).
+      const btVector3 dv = instrument->getLinearVelocity() - v_bt;
+      force = Vec3(dv.x(), dv.y(), dv.z()) * (kInstrumentMass / dt / kMm);
+    } else {
+      world->stepSimulation(dt, 0, dt);
+    }
+    info.m_sparsesdf.GarbageCollect();
+    f_sum += force;
+    ++f_count;
+    const double t_rel = double(k + 1) * dt;
+    const double boundary = double(out.t_s.size() + 1) * window.sample_s;
+    if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt) {
+      out.t_s.push_back(boundary);
+      out.force_N.push_back(f_sum / f_count);
+      out.instrument.push_back(path_at(start, path, window.sample_s, t_rel));
+      f_sum = Vec3::Zero();
+      f_count = 0;
+    }
+    bool finite = true;
+    for (int i = 0; i < soft->m_nodes.size() && finite; i += 97)
+      finite = std::isfinite(soft->m_nodes[i].m_x.x());
+    if (!finite) {
+      out.failed = true;
+      break;
+    }
+    if (progress && (k % 250 == 0)) progress(double(k) / double(steps));
+  }
+  out.cpu_s = thread_cpu_s() - cpu_start;
+  out.wall_s = std::chrono::duration<double>(Clock::now() - t_start).count();
+  out.steps = steps;
+  out.sim_s = double(steps) * dt;
+
+  // Removed: nodes outside the removal region at the end.
+  std::int32_t removed = 0, target = 0;
+  const auto mats = lattice.materials();
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool is_target = mats[i] < config.nucleus.materials.size()
+                               ? config.nucleus.materials[mats[i]].counts_as_target
+                               : true;
+    if (!is_target) continue;
+    ++target;
+    const btVector3& p = soft->m_nodes[static_cast<int>(i)].m_x;
+    const Vec3 x(p.x() / kMm, p.y() / kMm, p.z() / kMm);
+    const auto& r = config.removal;
+    if ((x.array() < r.min_m.array()).any() || (x.array() > r.max_m.array()).any()) ++removed;
+  }
+  out.removed_target = removed;
+  out.removed_fraction = target > 0 ? double(removed) / target : 0.0;
+
+  world->removeSoftBody(soft.get());
+  for (auto& b : bodies) world->removeRigidBody(b.get());
+  if (progress) progress(1.0);
+  return out;
+}
+
+}  // namespace acdr

@@ -1,0 +1,74 @@
+// One benchmark run: a World built from a scene description with chosen solver settings,
+// driven by a trajectory over a time window, with the figures the benchmark compares
+// (instrument force over time, nucleus removed, wall and CPU time per stage). Shared by the
+// `acdr bench` command, the probe program and the micro-benchmarks (STYLE.md: scene builders
+// are shared, never copied).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/trajectory.hpp"
+#include "engine/world.hpp"
+#include "engine/world_config.hpp"
+
+namespace acdr {
+
+/// Solver and scene settings a benchmark point varies. Values <= 0 (or -1) keep the scene's.
+struct RunSettings {
+  double dt_s = 0.0;           ///< fixed step, s (the trajectory is sampled at it)
+  int max_iterations = 0;      ///< PCG iterations per step
+  double tolerance = 0.0;      ///< relative PCG residual
+  double spacing_m = 0.0;      ///< particle spacing h, m (the blocks are refilled at it)
+  int sleep = -1;              ///< 1/0: sleeping far particles on/off; -1: the scene's setting
+};
+
+/// Applies `s` to a copy of `base`.
+WorldConfig apply_settings(const WorldConfig& base, const RunSettings& s);
+
+/// Which part of the trajectory a run plays, and how its force is sampled.
+struct RunWindow {
+  double start_s = 0.0;     ///< trajectory time the run starts at (the instrument starts there)
+  double duration_s = 0.0;  ///< simulated time; <= 0: to the end of the trajectory
+  /// Forces are averaged over consecutive windows of this length (s), so runs at different
+  /// steps are compared at the same instants and over the same spans. 10 ms holds a whole
+  /// number of steps for dt = 0.25, 0.5, 1, 2 ms.
+  double sample_s = 0.01;
+};
+
+/// What a run produced.
+struct RunTrace {
+  std::vector<double> t_s;          ///< end of each force window, s after the start
+  std::vector<Vec3> force_N;        ///< mean nucleus force on the instrument per window, N
+  std::vector<Pose> instrument;     ///< simulated grip pose at each window end
+  double removed_fraction = 0.0;    ///< target particles removed at the end / initial
+  std::int32_t removed_target = 0;
+  std::size_t particles = 0;
+  std::size_t bonds = 0;
+  double sim_s = 0.0;               ///< simulated time
+  double wall_s = 0.0;              ///< wall time of the stepping loop
+  double cpu_s = 0.0;               ///< CPU time of this thread in the loop (robust on a shared machine)
+  double max_step_wall_s = 0.0;     ///< slowest single step, wall
+  std::int64_t steps = 0;
+  double mean_iterations = 0.0;
+  double mean_active = 0.0;
+  StageTimes stages;
+  bool failed = false;
+  std::uint64_t state_hash = 0;
+};
+
+/// Called after every step (e.g. to draw a frame); its time counts in the run's wall time.
+using RunObserver = std::function<void(const World&, const Frame&)>;
+
+/// Runs `config` along `trajectory` over `window`. `progress(fraction)` is called now and
+/// then when given.
+RunTrace run_scene(const WorldConfig& config, const Trajectory& trajectory,
+                   const RunWindow& window, const std::function<void(double)>& progress = {},
+                   const RunObserver& observer = {});
+
+/// CPU time of the calling thread, s.
+double thread_cpu_s();
+
+}  // namespace acdr
