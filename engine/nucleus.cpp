@@ -582,6 +582,9 @@ bool collider_bounds(const Collider& c, Vec3* lo, Vec3* hi) {
   Vec3 e = Vec3::Zero();
   switch (c.kind) {
     case ColliderKind::kHalfSpace: return false;
+    // Bone: the sampled field may be clipped to the disc space while the bone goes on beyond
+    // it, so no box bounds the solid; it is tested for every particle (one trilinear lookup).
+    case ColliderKind::kSdfGrid: return false;
     case ColliderKind::kBox:
       e = c.pose.orientation.toRotationMatrix().cwiseAbs() * c.half_extents_m;
       break;
