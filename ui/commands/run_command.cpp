@@ -158,9 +158,8 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
       return 2;
     }
     if (!decision.value().unlocked) {
-      err << "module '" << scenario.id << "' is locked for trainee '" << *options.trainee
-          << "': " << decision.value().reason
-          << " (an instructor may allow it with --override --override-by NAME)\n";
+      // The reason already names the module, the trainee and what is missing.
+      err << decision.value().reason << " with --override --override-by NAME\n";
       return 4;
     }
   }
