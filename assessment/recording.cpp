@@ -82,6 +82,9 @@ class Reader {
 using F64Field = double& (*)(Frame&);
 using I32Field = std::int32_t& (*)(Frame&);
 
+// The force sent to the device is not here: unless clamped or rate-limited it is exactly minus
+// the coupling force, so it is stored after these as the XOR of the two bit patterns (then a
+// constant sign bit, which compresses to almost nothing; lossless either way).
 const F64Field kF64Fields[] = {
     [](Frame& f) -> double& { return f.t_s; },
     [](Frame& f) -> double& { return f.device.position.x(); },
@@ -104,9 +107,6 @@ const F64Field kF64Fields[] = {
     [](Frame& f) -> double& { return f.coupling_force_N.x(); },
     [](Frame& f) -> double& { return f.coupling_force_N.y(); },
     [](Frame& f) -> double& { return f.coupling_force_N.z(); },
-    [](Frame& f) -> double& { return f.feedback_force_N.x(); },
-    [](Frame& f) -> double& { return f.feedback_force_N.y(); },
-    [](Frame& f) -> double& { return f.feedback_force_N.z(); },
     [](Frame& f) -> double& { return f.nucleus_force_N.x(); },
     [](Frame& f) -> double& { return f.nucleus_force_N.y(); },
     [](Frame& f) -> double& { return f.nucleus_force_N.z(); },
@@ -136,17 +136,40 @@ U unzigzag(U z) {
   return static_cast<U>((z >> 1) ^ (~(z & 1) + 1));
 }
 
-// Writes n unsigned values (bit patterns) as zigzag deltas, byte-shuffled. `scratch` holds n.
+// Residual of value i under a predictor of order 1 (the previous value) or 2 (linear
+// extrapolation from the two previous), on bit patterns with wrap-around.
+template <typename U>
+U predicted(const U* v, std::size_t i, int order) {
+  const U p1 = i >= 1 ? v[i - 1] : 0;
+  if (order == 1) return p1;
+  const U p2 = i >= 2 ? v[i - 2] : 0;
+  return static_cast<U>(2 * p1 - p2);
+}
+
+// Bytes needed for the residuals (the leading zero bytes cost nearly nothing after zlib): how
+// the encoder picks the predictor of a column.
+template <typename U>
+std::size_t residual_bytes(const std::vector<U>& v, int order) {
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const U r = zigzag(static_cast<U>(v[i] - predicted(v.data(), i, order)));
+    total += (sizeof(U) * 8 - static_cast<std::size_t>(std::countl_zero(r)) + 7) / 8;
+  }
+  return total;
+}
+
+// Writes n unsigned values (bit patterns): u8 predictor order, then the zigzag-coded residuals
+// byte-shuffled (all lowest bytes, then all next bytes, ...). Smooth signals (poses) predict
+// best linearly, noisy ones (forces) from the previous value. `scratch` holds n.
 template <typename U>
 void put_column(const std::vector<U>& values, std::vector<U>& scratch,
                 std::vector<std::uint8_t>& out) {
   const std::size_t n = values.size();
+  const int order = residual_bytes(values, 2) < residual_bytes(values, 1) ? 2 : 1;
+  out.push_back(static_cast<std::uint8_t>(order));
   scratch.resize(n);
-  U prev = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    scratch[i] = zigzag(static_cast<U>(values[i] - prev));
-    prev = values[i];
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    scratch[i] = zigzag(static_cast<U>(values[i] - predicted(values.data(), i, order)));
   const std::size_t start = out.size();
   out.resize(start + n * sizeof(U));
   std::uint8_t* dst = out.data() + start;
@@ -157,16 +180,15 @@ void put_column(const std::vector<U>& values, std::vector<U>& scratch,
 
 template <typename U>
 bool get_column(Reader& rd, std::size_t n, std::vector<U>& values) {
+  std::uint8_t order = 0;
+  if (!rd.get(order) || (order != 1 && order != 2)) return false;
   if (rd.left() < n * sizeof(U)) return false;
   const std::uint8_t* src = rd.here();
   values.assign(n, 0);
   for (std::size_t b = 0; b < sizeof(U); ++b)
     for (std::size_t i = 0; i < n; ++i) values[i] |= static_cast<U>(*src++) << (8 * b);
-  U prev = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    prev = static_cast<U>(prev + unzigzag(values[i]));
-    values[i] = prev;
-  }
+  for (std::size_t i = 0; i < n; ++i)
+    values[i] = static_cast<U>(unzigzag(values[i]) + predicted(values.data(), i, order));
   rd.skip(n * sizeof(U));
   return true;
 }
@@ -197,6 +219,12 @@ bool decode_frame_block(Reader& rd, std::vector<Frame>& frames, const char** why
   for (F64Field field : kF64Fields) {
     if (!get_column(rd, n, u64)) return *why = "truncated frames", false;
     for (std::uint32_t i = 0; i < n; ++i) field(block[i]) = std::bit_cast<double>(u64[i]);
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!get_column(rd, n, u64)) return *why = "truncated frames", false;
+    for (std::uint32_t i = 0; i < n; ++i)
+      block[i].feedback_force_N[axis] = std::bit_cast<double>(
+          u64[i] ^ std::bit_cast<std::uint64_t>(block[i].coupling_force_N[axis]));
   }
   std::vector<std::uint32_t> u32;
   for (I32Field field : kI32Fields) {
@@ -351,6 +379,12 @@ void append_frame_block(std::span<const Frame> frames, std::vector<std::uint8_t>
   std::vector<std::uint64_t> u64(n), s64;
   for (F64Field field : kF64Fields) {
     for (std::size_t i = 0; i < n; ++i) u64[i] = std::bit_cast<std::uint64_t>(field(row[i]));
+    put_column(u64, s64, out);
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    for (std::size_t i = 0; i < n; ++i)
+      u64[i] = std::bit_cast<std::uint64_t>(row[i].feedback_force_N[axis]) ^
+               std::bit_cast<std::uint64_t>(row[i].coupling_force_N[axis]);
     put_column(u64, s64, out);
   }
   std::vector<std::uint32_t> u32(n), s32;

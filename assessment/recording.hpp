@@ -7,10 +7,13 @@
 //           warning distance, force limit, never-event flag: what zone metrics need);
 //   blocks  until the end of the bytes, each u8 tag, u32 payload size, payload:
 //           'F' frames: u32 count, u32 zone columns, then every field as one column (structure
-//               of arrays). A column of doubles/floats/ints is stored as the zigzag-coded
-//               difference of each value's bit pattern from the previous one, byte-shuffled
-//               (all lowest bytes, then all next bytes, ...). Smooth 1 kHz signals then differ
-//               only in their low mantissa bytes and zlib finds long runs in the high ones.
+//               of arrays). A column of doubles/floats/ints is a u8 predictor order (1: the
+//               previous value, 2: linear extrapolation from the two previous; the encoder
+//               picks the one with smaller residuals) and the zigzag-coded residuals of the
+//               values' bit patterns, byte-shuffled (all lowest bytes, then all next bytes,
+//               ...). Smooth 1 kHz signals then differ only in their low mantissa bytes and
+//               zlib finds long runs in the high ones. The feedback force is stored as the XOR
+//               of its bits with the coupling force's (it is mostly exactly its negative).
 //               Lossless: decoding gives the same bits, so metrics re-compute exactly.
 //           'E' events: u32 count, per event f64 t, u8 kind, f64 value, i32 zone, u32 length +
 //               the detail text.
