@@ -1,6 +1,7 @@
-// End to end (issue 6 acceptance): `acdr run` killed by SIGKILL mid-attempt leaves an intact
-// record; the next start (`acdr report`) shows the attempt aborted, with the recording and the
-// metrics of its last checkpoint, which agree exactly.
+// End to end (issue 6 acceptance) with the acdr program: `acdr run` killed by SIGKILL
+// mid-attempt leaves an intact record, and the next start (`acdr report`) shows the attempt
+// aborted with the recording and the metrics of its last checkpoint, which agree exactly; a
+// completed attempt re-scored by `acdr rescore` reproduces its stored metrics exactly.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sqlite3.h>
@@ -78,18 +79,35 @@ int committed_chunks(const std::string& db_path) {
   return n;
 }
 
-TEST(RunKilled, AttemptIsAbortedWithItsCheckpointedRecordingAndMetrics) {
+// The small test box with room for a long replay; returns the scene file's path.
+std::string write_scene(const test::TempDir& dir) {
+  nlohmann::json scene = nlohmann::json::parse(
+      read_text(std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/small_box.json"));
+  scene["time_limit_s"] = 60;
+  const std::string path = dir.file("scene.json");
+  std::ofstream(path) << scene.dump(2);
+  return path;
+}
+
+// Runs `command`, returns its stdout; fails the test on a non-zero exit.
+std::string run_program(const std::string& command) {
+  FILE* pipe = popen(command.c_str(), "r");
+  EXPECT_NE(pipe, nullptr);
+  if (!pipe) return {};
+  std::string output;
+  char buffer[4096];
+  for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
+  EXPECT_EQ(pclose(pipe), 0) << command << "\n" << output;
+  return output;
+}
+
+TEST(AcdrRunRecord, KilledAttemptIsAbortedWithItsCheckpointedRecordingAndMetrics) {
   test::TempDir dir;
   const std::string db_path = dir.file("record.sqlite");
   const std::string trajectory = dir.file("long.csv");
   write_long_trajectory(std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/short_scoop.csv",
                         trajectory, 3);
-  // The small box with room for the whole replay.
-  nlohmann::json scene =
-      nlohmann::json::parse(read_text(std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/small_box.json"));
-  scene["time_limit_s"] = 60;
-  const std::string scene_path = dir.file("scene.json");
-  std::ofstream(scene_path) << scene.dump(2);
+  const std::string scene_path = write_scene(dir);
 
   const pid_t child = fork();
   ASSERT_GE(child, 0);
@@ -118,13 +136,8 @@ TEST(RunKilled, AttemptIsAbortedWithItsCheckpointedRecordingAndMetrics) {
   ASSERT_TRUE(WIFSIGNALED(status));
 
   // The next start of the program: `acdr report` shows the attempt aborted.
-  const std::string command = std::string(ACDR_EXE) + " report --db '" + db_path + "' --format json";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[4096];
-  for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
-  ASSERT_EQ(pclose(pipe), 0) << output;
+  const std::string output =
+      run_program(std::string(ACDR_EXE) + " report --db '" + db_path + "' --format json");
   const nlohmann::json report = nlohmann::json::parse(output);
   ASSERT_EQ(report["attempts"].size(), 1u) << output;
   EXPECT_EQ(report["attempts"][0]["status"], "aborted");
@@ -151,6 +164,37 @@ TEST(RunKilled, AttemptIsAbortedWithItsCheckpointedRecordingAndMetrics) {
   EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
   EXPECT_EQ(a.duration_s, std::optional<double>(decoded->frames.back().t_s));
   EXPECT_GT(*a.metrics.find("tip_path_length_mm"), 0.0);
+}
+
+TEST(AcdrRunRecord, RescoringACompletedAttemptReproducesItsMetricsExactly) {
+  test::TempDir dir;
+  const std::string db_path = dir.file("record.sqlite");
+  const std::string scene_path = write_scene(dir);
+  const std::string trajectory = std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/short_scoop.csv";
+  run_program(std::string(ACDR_EXE) + " run '" + scene_path + "' --input 'replay:" + trajectory +
+              "' --headless --db '" + db_path + "' --checkpoint-every 0.5 --json > /dev/null");
+  {
+    Database db = test::open_or_fail(db_path);
+    auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
+    ASSERT_TRUE(attempts.ok()) << attempts.error().message;
+    ASSERT_EQ(attempts->size(), 1u);
+    const AttemptRecord& a = attempts->front();
+    ASSERT_EQ(a.status, AttemptStatus::kCompleted);
+    ASSERT_TRUE(a.recording.has_value());
+    EXPECT_TRUE(a.recording->complete);  // the whole recording replaced the checkpoints
+    EXPECT_EQ(a.recording->format, kRecordingFormat);
+    std::string error;
+    const auto decoded = decode_recording(a.recording->bytes, &error);
+    ASSERT_TRUE(decoded) << error;
+    EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
+    DbResult<Statement> chunks = db.prepare("SELECT count(*) FROM recording_chunks");
+    ASSERT_TRUE(chunks.ok());
+    ASSERT_TRUE(chunks->step().value());
+    EXPECT_EQ(chunks->column_int64(0), 0);
+  }
+  const std::string out = run_program(std::string(ACDR_EXE) + " rescore --db '" + db_path + "'");
+  EXPECT_NE(out.find("metrics identical"), std::string::npos) << out;
+  EXPECT_NE(out.find("1 attempt(s) re-scored, 0 changed"), std::string::npos) << out;
 }
 
 }  // namespace
