@@ -1,8 +1,15 @@
 // The metrics assessment computes: names (with units in them), and what each means. Rubrics
 // may refer only to these, so a misspelt metric never silently scores nothing.
+//
+// Two kinds of names:
+// - fixed names, produced for every attempt (metric_catalog());
+// - per-danger-zone names "zone.<zone-id>.<quantity>", produced for each zone of the scene
+//   (zone_metric_catalog() lists the quantities). The zone id is the zone's name made safe:
+//   zone_metric_ids().
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace acdr {
@@ -12,10 +19,29 @@ struct MetricInfo {
   std::string meaning;  ///< one line, for documentation and the dashboard
 };
 
-/// Every metric compute_metrics() produces, in its output order.
+/// Every fixed metric compute_metrics() produces, in its output order.
 const std::vector<MetricInfo>& metric_catalog();
 
-/// Just the names, in the same order.
+/// Just the fixed names, in the same order.
 const std::vector<std::string>& known_metric_names();
+
+/// The per-zone quantities, in output order (name = the <quantity> part, e.g. "peak_force_N").
+const std::vector<MetricInfo>& zone_metric_catalog();
+
+/// Ids of the scene's zones for metric names, in zone order: each name lower-cased, every run
+/// of characters other than [a-z0-9_] replaced by one '_', leading/trailing '_' dropped
+/// ("Vertebral artery (L)" -> "vertebral_artery_l"); an empty result becomes "zone<index>";
+/// a repeated id gets "_2", "_3", ... appended.
+std::vector<std::string> zone_metric_ids(const std::vector<std::string>& zone_names);
+
+/// "zone.<zone_id>.<quantity>".
+std::string zone_metric_name(std::string_view zone_id, std::string_view quantity);
+
+/// ECMAScript regular expression matching every per-zone metric name (anchored with ^ and $),
+/// as the scenario schema states it.
+const std::string& zone_metric_pattern();
+
+/// Whether `name` is a fixed metric or matches zone_metric_pattern().
+bool is_known_metric_name(const std::string& name);
 
 }  // namespace acdr

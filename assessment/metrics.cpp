@@ -2,6 +2,9 @@
 #include "assessment/metrics.hpp"
 
 #include <algorithm>
+#include <limits>
+
+#include "assessment/metric_catalog.hpp"
 
 namespace acdr {
 
@@ -19,6 +22,91 @@ const double* Metrics::find(const std::string& name) const {
     if (n == name) return &v;
   return nullptr;
 }
+
+namespace {
+
+// Per-zone reductions over the frames' zone samples (Frame::zones), and their sums over zones.
+// "Near" a zone = inside it or within its warning distance: the force near it is what the
+// instrument presses on the tissue there (the engine sets it to 0 elsewhere).
+struct ZoneTotals {
+  double peak_force = 0, impulse = 0, dwell = 0, inside = 0;
+  double closest = std::numeric_limits<double>::quiet_NaN();
+  int warnings = 0, entries = 0, over_limit = 0;
+};
+
+void add_zone_metrics(const AttemptRecording& record, Metrics& m) {
+  const WorldSummary& s = record.summary;
+  const std::size_t zones = std::min<std::size_t>(s.zones.size(), Frame::kZoneCapacity);
+  std::vector<ZoneTotals> totals(zones);
+  std::vector<std::uint8_t> was_inside(zones, 0), was_warning(zones, 0), was_over(zones, 0);
+  double near_any = 0;
+  for (const Frame& f : record.frames) {
+    const std::size_t sampled = std::min<std::size_t>(zones, std::max(0, f.zone_count));
+    bool near_one = false;
+    for (std::size_t k = 0; k < sampled; ++k) {
+      const Frame::ZoneState& z = f.zones[k];
+      ZoneTotals& t = totals[k];
+      const bool near = z.inside || z.warning;
+      const double force = near ? static_cast<double>(z.force_N) : 0.0;
+      const double distance_mm = static_cast<double>(z.distance_m) * 1e3;
+      if (!(distance_mm >= t.closest)) t.closest = distance_mm;  // also replaces the NaN
+      if (near) {
+        t.peak_force = std::max(t.peak_force, force);
+        t.impulse += force * s.dt_s;
+        t.dwell += s.dt_s;
+        near_one = true;
+      }
+      if (z.inside) t.inside += s.dt_s;
+      // Rising edges, as the engine emits its zone events (engine/world.cpp).
+      const bool over = z.warning && force > s.zones[k].force_limit_N;
+      if (z.inside && !was_inside[k]) ++t.entries;
+      if (z.warning && !was_warning[k]) ++t.warnings;
+      if (over && !was_over[k]) ++t.over_limit;
+      was_inside[k] = z.inside, was_warning[k] = z.warning, was_over[k] = over;
+    }
+    if (near_one) near_any += s.dt_s;
+  }
+
+  double peak = 0, impulse = 0;
+  int warnings = 0, entries = 0, over_limit = 0, never = 0;
+  for (std::size_t k = 0; k < zones; ++k) {
+    const ZoneTotals& t = totals[k];
+    peak = std::max(peak, t.peak_force);
+    impulse += t.impulse;
+    warnings += t.warnings, entries += t.entries, over_limit += t.over_limit;
+    if (s.zones[k].never_event) never += t.entries;
+  }
+  m.set("zone_warnings", warnings);
+  m.set("zone_entries", entries);
+  m.set("zone_over_limit_events", over_limit);
+  m.set("zone_peak_force_N", peak);
+  m.set("zone_impulse_Ns", impulse);
+  m.set("zone_dwell_s", near_any);
+  m.set("never_events", never);
+
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < zones; ++k) names.push_back(s.zones[k].name);
+  const std::vector<std::string> ids = zone_metric_ids(names);
+  for (std::size_t k = 0; k < zones; ++k) {
+    const ZoneTotals& t = totals[k];
+    // Order as zone_metric_catalog(); appended directly (names are unique by construction).
+    const double values[] = {t.peak_force,
+                             t.impulse,
+                             t.dwell,
+                             t.inside,
+                             t.closest,
+                             static_cast<double>(t.warnings),
+                             static_cast<double>(t.entries),
+                             static_cast<double>(t.over_limit),
+                             s.zones[k].never_event && t.entries > 0 ? 1.0 : 0.0};
+    const auto& quantities = zone_metric_catalog();
+    static_assert(std::size(values) == 9);
+    for (std::size_t q = 0; q < quantities.size() && q < std::size(values); ++q)
+      m.values.emplace_back(zone_metric_name(ids[k], quantities[q].name), values[q]);
+  }
+}
+
+}  // namespace
 
 Metrics compute_metrics(const AttemptRecording& record) {
   const WorldSummary& s = record.summary;
@@ -72,6 +160,12 @@ Metrics compute_metrics(const AttemptRecording& record) {
       // events, not scored.
       case EventKind::kInputLost: break;
       case EventKind::kDeviceDisconnected: break;
+      // Zone metrics are counted from the frames' zone samples (below), which the engine
+      // never drops; the zone events are kept for the record and the dashboard.
+      case EventKind::kZoneWarning:
+      case EventKind::kZoneEntry:
+      case EventKind::kNeverEvent:
+      case EventKind::kZoneForce: break;
     }
   }
   m.set("overload_events", warnings);
@@ -83,6 +177,7 @@ Metrics compute_metrics(const AttemptRecording& record) {
   m.set("input_rejections", rejected);
   m.set("force_clamped_events", clamped);
   m.set("numerical_events", numerical);
+  add_zone_metrics(record, m);
   return m;
 }
 

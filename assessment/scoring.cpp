@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
 
 namespace acdr {
 
@@ -49,13 +50,29 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
   const double* numerical = metrics.find("numerical_events");
   const bool numerics_ok = !numerical || *numerical == 0;
   if (!numerics_ok) r.reasons.push_back("the simulation reported numerical trouble");
+  // Any never-event fails the attempt, whatever the rubric says (issue 6; the zones that
+  // were entered are named by their zone.<id>.never_event metrics).
+  const double* never = metrics.find("never_events");
+  const bool never_ok = !never || *never == 0;
+  if (!never_ok) {
+    std::string zones;
+    const std::string suffix = ".never_event";
+    for (const auto& [name, value] : metrics.values) {
+      if (value == 0 || name.rfind("zone.", 0) != 0 || name.size() <= suffix.size() + 5 ||
+          name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+        continue;
+      zones += (zones.empty() ? "" : ", ") + name.substr(5, name.size() - 5 - suffix.size());
+    }
+    r.reasons.push_back("never-event: the instrument entered " +
+                        (zones.empty() ? std::string("a never-event zone") : zones));
+  }
   if (r.score < rubric.pass_score) {
     char text[120];
     std::snprintf(text, sizeof text, "composite score %.1f is below the pass score %.1f", r.score,
                   rubric.pass_score);
     r.reasons.push_back(text);
   }
-  r.passed = gates_ok && numerics_ok && r.score >= rubric.pass_score;
+  r.passed = gates_ok && numerics_ok && never_ok && r.score >= rubric.pass_score;
   return r;
 }
 

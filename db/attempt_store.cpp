@@ -64,16 +64,22 @@ DbStatus run_with(Database& db, const char* sql, std::int64_t id) {
   return s->run();
 }
 
-DbStatus write_events(Database& db, std::int64_t id, const std::vector<EventRecord>& events) {
-  if (DbStatus d = run_with(db, "DELETE FROM events WHERE attempt_id = ?", id); !d) return d;
+// Inserts `events` numbered from `first_seq` on.
+DbStatus insert_events(Database& db, std::int64_t id, const std::vector<EventRecord>& events,
+                       std::int64_t first_seq) {
   DbResult<Statement> s = db.prepare(
-      "INSERT INTO events (attempt_id, seq, t_s, kind, zone, value, detail) "
-      "VALUES (?, ?, ?, ?, ?, ?, ?)");
+      "INSERT INTO events (attempt_id, seq, t_s, kind, zone, zone_index, value, detail) "
+      "VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
   if (!s) return s.error();
   for (std::size_t i = 0; i < events.size(); ++i) {
     const EventRecord& e = events[i];
-    if (DbStatus b = s->bind_all(id, static_cast<std::int64_t>(i), e.t_s, e.kind, e.zone, e.value,
-                                 e.detail);
+    // Not about a zone: NULL, not '' or -1.
+    const std::optional<std::string> zone =
+        e.zone.empty() ? std::nullopt : std::optional<std::string>(e.zone);
+    const std::optional<std::int64_t> zone_index =
+        e.zone_index >= 0 ? std::optional<std::int64_t>(e.zone_index) : std::nullopt;
+    if (DbStatus b = s->bind_all(id, first_seq + static_cast<std::int64_t>(i), e.t_s, e.kind,
+                                 zone, zone_index, e.value, e.detail);
         !b) {
       return b;
     }
@@ -81,6 +87,11 @@ DbStatus write_events(Database& db, std::int64_t id, const std::vector<EventReco
     if (DbStatus r = s->reset(); !r) return r;
   }
   return {};
+}
+
+DbStatus write_events(Database& db, std::int64_t id, const std::vector<EventRecord>& events) {
+  if (DbStatus d = run_with(db, "DELETE FROM events WHERE attempt_id = ?", id); !d) return d;
+  return insert_events(db, id, events, 0);
 }
 
 // A recording compressed before its transaction starts: compressing a long attempt takes
@@ -219,6 +230,49 @@ AttemptRecord read_attempt_row(const Statement& s) {
   return a;
 }
 
+DbResult<std::vector<std::uint8_t>> unpack(const Database& db, std::int64_t id,
+                                           const std::string& encoding,
+                                           std::vector<std::uint8_t> data,
+                                           std::int64_t raw_bytes) {
+  if (encoding != "zlib") return data;
+  DbResult<std::vector<std::uint8_t>> raw =
+      decompress_recording(data, static_cast<std::uint64_t>(raw_bytes));
+  if (!raw) return DbError{attempt_where(db, id) + raw.error().message, 0};
+  return raw;
+}
+
+// The checkpointed pieces of a recording, concatenated (nullopt when there are none).
+DbResult<std::optional<RecordingData>> read_chunks(Database& db, std::int64_t id) {
+  DbResult<Statement> s = db.prepare(
+      "SELECT seq, format, encoding, frame_count, raw_bytes, data FROM recording_chunks "
+      "WHERE attempt_id = ? ORDER BY seq");
+  if (!s) return s.error();
+  if (DbStatus b = s->bind_all(id); !b) return b.error();
+  std::optional<RecordingData> out;
+  for (;;) {
+    DbResult<bool> row = s->step();
+    if (!row) return row.error();
+    if (!row.value()) break;
+    const std::string format = s->column_text(1);
+    if (!out) {
+      out.emplace();
+      out->format = format;
+      out->complete = false;
+    } else if (format != out->format) {
+      return DbError{attempt_where(db, id) + "recording chunk " +
+                         std::to_string(s->column_int64(0)) + " has format '" + format +
+                         "' (expected '" + out->format + "' like the first)",
+                     0};
+    }
+    out->frame_count += s->column_int64(3);
+    DbResult<std::vector<std::uint8_t>> raw =
+        unpack(db, id, s->column_text(2), s->column_blob(5), s->column_int64(4));
+    if (!raw) return raw.error();
+    out->bytes.insert(out->bytes.end(), raw->begin(), raw->end());
+  }
+  return out;
+}
+
 DbStatus read_details(Database& db, AttemptRecord& a, const AttemptDetail& detail) {
   if (detail.metrics) {
     {
@@ -275,15 +329,20 @@ DbStatus read_details(Database& db, AttemptRecord& a, const AttemptDetail& detai
   }
   if (detail.events) {
     DbResult<Statement> s = db.prepare(
-        "SELECT t_s, kind, zone, value, detail FROM events WHERE attempt_id = ? ORDER BY seq");
+        "SELECT t_s, kind, zone, value, detail, zone_index FROM events WHERE attempt_id = ? "
+        "ORDER BY seq");
     if (!s) return s.error();
     if (DbStatus b = s->bind_all(a.id); !b) return b;
     for (;;) {
       DbResult<bool> row = s->step();
       if (!row) return row.error();
       if (!row.value()) break;
-      a.events.push_back(EventRecord{read_real(*s, 0), s->column_text(1), s->column_text(2),
-                                     read_real(*s, 3), s->column_text(4)});
+      a.events.push_back(EventRecord{read_real(*s, 0), s->column_text(1),
+                                     s->column_optional_text(2).value_or(""), read_real(*s, 3),
+                                     s->column_text(4),
+                                     s->column_is_null(5)
+                                         ? -1
+                                         : static_cast<std::int32_t>(s->column_int64(5))});
     }
   }
   if (detail.recording) {
@@ -301,16 +360,15 @@ DbStatus read_details(Database& db, AttemptRecord& a, const AttemptDetail& detai
       r.frame_count = s->column_int64(2);
       const std::int64_t raw_bytes = s->column_int64(3);
       r.complete = s->column_int64(4) != 0;
-      std::vector<std::uint8_t> data = s->column_blob(5);
-      if (encoding == "zlib") {
-        DbResult<std::vector<std::uint8_t>> raw =
-            decompress_recording(data, static_cast<std::uint64_t>(raw_bytes));
-        if (!raw) return DbError{attempt_where(db, a.id) + raw.error().message, 0};
-        r.bytes = std::move(raw.value());
-      } else {
-        r.bytes = std::move(data);
-      }
+      DbResult<std::vector<std::uint8_t>> raw =
+          unpack(db, a.id, encoding, s->column_blob(5), raw_bytes);
+      if (!raw) return raw.error();
+      r.bytes = std::move(raw.value());
       a.recording = std::move(r);
+    } else {
+      DbResult<std::optional<RecordingData>> chunks = read_chunks(db, a.id);
+      if (!chunks) return chunks.error();
+      a.recording = std::move(chunks.value());
     }
   }
   return {};
@@ -430,6 +488,55 @@ DbStatus checkpoint_attempt(Database& db, std::int64_t attempt_id,
   return tx->commit();
 }
 
+DbStatus append_checkpoint(Database& db, std::int64_t attempt_id,
+                           const AttemptCheckpoint& checkpoint) {
+  // Compressed before the transaction: the write lock is held only for the write.
+  DbResult<std::optional<PackedRecording>> packed =
+      pack_recording(db, attempt_id, checkpoint.chunk ? &*checkpoint.chunk : nullptr);
+  if (!packed) return packed.error();
+  DbResult<Transaction> tx = Transaction::begin(db);
+  if (!tx) return tx.error();
+  if (DbStatus r = require_running(db, attempt_id, "checkpoint"); !r) return r;
+  if (!checkpoint.new_events.empty()) {
+    DbResult<Statement> next =
+        db.prepare("SELECT coalesce(max(seq) + 1, 0) FROM events WHERE attempt_id = ?");
+    if (!next) return next.error();
+    if (DbStatus b = next->bind_all(attempt_id); !b) return b;
+    DbResult<bool> row = next->step();
+    if (!row) return row.error();
+    const std::int64_t first = next->column_int64(0);
+    if (DbStatus w = insert_events(db, attempt_id, checkpoint.new_events, first); !w) return w;
+  }
+  if (packed.value()) {
+    const RecordingData& chunk = *checkpoint.chunk;
+    DbResult<Statement> s = db.prepare(
+        "INSERT INTO recording_chunks (attempt_id, seq, format, encoding, frame_count, raw_bytes, "
+        "data) VALUES (?1, (SELECT coalesce(max(seq) + 1, 0) FROM recording_chunks "
+        "WHERE attempt_id = ?1), ?2, 'zlib', ?3, ?4, ?5)");
+    if (!s) return s.error();
+    if (DbStatus b = s->bind_all(attempt_id, chunk.format, chunk.frame_count,
+                                 static_cast<std::int64_t>(chunk.bytes.size()),
+                                 BlobView(packed.value()->data));
+        !b) {
+      return b;
+    }
+    if (DbStatus r = s->run(); !r) return r;
+  }
+  if (checkpoint.metrics) {
+    if (DbStatus w = write_assessment(db, attempt_id, *checkpoint.metrics, ScoreResult{}); !w) {
+      return w;
+    }
+  }
+  DbResult<Statement> s = db.prepare(
+      "UPDATE attempts SET heartbeat_utc = ?, duration_s = coalesce(?, duration_s) WHERE id = ?");
+  if (!s) return s.error();
+  const std::optional<double> duration =
+      checkpoint.duration_s >= 0.0 ? std::optional<double>(checkpoint.duration_s) : std::nullopt;
+  if (DbStatus b = s->bind_all(utc_now_text(), duration, attempt_id); !b) return b;
+  if (DbStatus r = s->run(); !r) return r;
+  return tx->commit();
+}
+
 DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome) {
   std::string ended = outcome.ended_utc;
   if (ended.empty()) {
@@ -453,6 +560,11 @@ DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutc
   if (DbStatus w = write_events(db, attempt_id, outcome.events); !w) return w;
   if (packed.value()) {
     if (DbStatus w = write_recording(db, attempt_id, *packed.value(), true); !w) return w;
+    // The whole recording supersedes the checkpointed pieces.
+    if (DbStatus d = run_with(db, "DELETE FROM recording_chunks WHERE attempt_id = ?", attempt_id);
+        !d) {
+      return d;
+    }
   }
   const std::optional<double> duration =
       outcome.duration_s >= 0.0 ? std::optional<double>(outcome.duration_s) : std::nullopt;

@@ -37,9 +37,20 @@ DbStatus checkpoint_attempt(Database& db, std::int64_t attempt_id,
                             const std::vector<EventRecord>& events,
                             const RecordingData* recording);
 
+/// Appends a checkpoint to a running attempt, in one short transaction: the new events
+/// (numbered on after the stored ones), the next recording piece (compressed on its own, stored
+/// in recording_chunks), the metrics so far (replacing the stored ones), the simulated
+/// duration so far and a fresh heartbeat. If the process is then killed, the attempt is later
+/// aborted with exactly this: load_attempt returns the pieces concatenated (complete = false).
+/// Use either this or checkpoint_attempt for one attempt, not both (a checkpoint_attempt
+/// recording hides the pieces).
+DbStatus append_checkpoint(Database& db, std::int64_t attempt_id,
+                           const AttemptCheckpoint& checkpoint);
+
 /// Stores metrics, score (with terms, gates, reasons), all events and the recording, sets the
 /// end time and status `completed` — all in ONE transaction: after a crash the attempt is either
 /// completed with everything or still as before. Only a `running` attempt can be finished.
+/// A recording given here replaces any checkpointed pieces.
 DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome);
 
 /// Ends a running attempt as `aborted` on purpose (the trainee quit), keeping what was

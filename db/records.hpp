@@ -54,9 +54,12 @@ std::optional<AttemptStatus> parse_attempt_status(std::string_view text);
 struct EventRecord {
   double t_s = 0.0;    ///< simulated time since the attempt started (s)
   std::string kind;
-  std::string zone;    ///< danger zone name, empty when not about a zone
+  std::string zone;    ///< danger zone name; empty (stored NULL) when not about a zone
   double value = 0.0;  ///< kind-specific: force (N), moment (N·m), distance (m), ...
   std::string detail;  ///< free text (e.g. the solver stage that produced a NaN)
+  /// The zone's index in the recording's zone list (WorldSummary::zones); -1 (stored NULL)
+  /// when not about a zone or unknown.
+  std::int32_t zone_index = -1;
 };
 
 /// The recorded input and frame stream of an attempt. The byte layout is named by `format` and
@@ -66,6 +69,18 @@ struct RecordingData {
   std::int64_t frame_count = 0;
   std::vector<std::uint8_t> bytes;  ///< uncompressed
   bool complete = true;             ///< false for a checkpoint of an unfinished attempt
+};
+
+/// What a running attempt appends at a checkpoint (append_checkpoint): only what is new since
+/// the previous checkpoint, so each costs about the new data, not the whole attempt so far.
+struct AttemptCheckpoint {
+  std::vector<EventRecord> new_events;  ///< events since the previous checkpoint, in time order
+  /// The next piece of the recording's byte stream (format, frames in it, bytes). Pieces are
+  /// stored (and compressed) one by one and read back concatenated in order.
+  std::optional<RecordingData> chunk;
+  /// Metrics of the recording so far; replace the stored ones (an aborted attempt keeps them).
+  std::optional<Metrics> metrics;
+  double duration_s = -1.0;  ///< simulated time so far (s); < 0: leave the stored value
 };
 
 /// What begin_attempt needs to know when an attempt starts.

@@ -359,7 +359,9 @@ void write_report_json(const ReportData& data, std::ostream& out) {
     for (const EventRecord& e : a.events) {
       events.push_back(Json{{"t_s", e.t_s},
                             {"kind", e.kind},
-                            {"zone", e.zone},
+                            // null when the event is not about a zone, as stored
+                            {"zone", e.zone.empty() ? Json(nullptr) : Json(e.zone)},
+                            {"zone_index", e.zone_index >= 0 ? Json(e.zone_index) : Json(nullptr)},
                             {"value", e.value},
                             {"detail", e.detail}});
     }

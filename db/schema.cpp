@@ -161,9 +161,47 @@ CREATE TABLE recordings (
 ) STRICT;
 )sql";
 
+// v2: an event's zone is NULL when the event is not about a zone (v1 stored ''), and keeps the
+// zone's index in the recording's zone list; recordings of running attempts are checkpointed
+// piece by piece (recording_chunks), each piece compressed on its own, so a checkpoint costs
+// what is new rather than the whole attempt so far.
+constexpr const char* kSchemaV2 = R"sql(
+CREATE TABLE events_v2 (
+  attempt_id INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  seq        INTEGER NOT NULL,
+  t_s        REAL,
+  kind       TEXT NOT NULL,
+  zone       TEXT CHECK (zone IS NULL OR length(zone) > 0),
+  zone_index INTEGER CHECK (zone_index IS NULL OR zone_index >= 0),
+  value      REAL,
+  detail     TEXT NOT NULL DEFAULT '',
+  PRIMARY KEY (attempt_id, seq)
+) STRICT, WITHOUT ROWID;
+INSERT INTO events_v2 (attempt_id, seq, t_s, kind, zone, zone_index, value, detail)
+  SELECT attempt_id, seq, t_s, kind, NULLIF(zone, ''), NULL, value, detail FROM events;
+DROP TABLE events;
+ALTER TABLE events_v2 RENAME TO events;
+
+-- Pieces of the recording of a running (later: aborted) attempt, in order. Their uncompressed
+-- bytes concatenate to the recording; finishing the attempt replaces them by one row of
+-- `recordings`.
+CREATE TABLE recording_chunks (
+  id          INTEGER PRIMARY KEY,
+  attempt_id  INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  seq         INTEGER NOT NULL CHECK (seq >= 0),
+  format      TEXT NOT NULL,
+  encoding    TEXT NOT NULL CHECK (encoding IN ('zlib', 'identity')),
+  frame_count INTEGER NOT NULL CHECK (frame_count >= 0),
+  raw_bytes   INTEGER NOT NULL CHECK (raw_bytes >= 0),
+  data        BLOB NOT NULL,
+  UNIQUE (attempt_id, seq)
+) STRICT;
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "training record v1: trainees, curricula, modules, attempts, metrics, events, recordings",
      kSchemaV1},
+    {2, "events with NULL zone and zone index; recording chunks for checkpoints", kSchemaV2},
 };
 
 static_assert(std::size(kMigrations) == kSchemaVersion,

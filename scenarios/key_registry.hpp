@@ -22,6 +22,7 @@ struct KeyInfo {
   std::optional<double> minimum, maximum, exclusive_minimum, exclusive_maximum;
   std::optional<std::size_t> min_items, max_items;  ///< arrays
   std::vector<std::string> enum_values;             ///< strings limited to these
+  std::string value_pattern;  ///< ... or matching this regex (schema: anyOf enum / pattern)
   std::vector<std::string> alternatives;            ///< other unit spellings, not both at once
 };
 

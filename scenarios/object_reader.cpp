@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <regex>
 
 #include "scenarios/key_suggestion.hpp"
 
@@ -372,9 +373,11 @@ std::optional<std::vector<double>> ObjectReader::numbers(const std::string& key,
 
 std::optional<std::string> ObjectReader::string(const std::string& key, Need need, bool nonempty,
                                                 const std::vector<std::string>& allowed,
-                                                const std::string& hint) {
+                                                const std::string& hint,
+                                                const std::string& value_pattern) {
   KeyInfo info = key_info(child_pattern(key), "string", need == Need::kRequired);
   info.enum_values = allowed;
+  info.value_pattern = value_pattern;
   ctx_->record(info);
   std::string expected = "a string";
   if (!allowed.empty()) {
@@ -382,6 +385,7 @@ std::optional<std::string> ObjectReader::string(const std::string& key, Need nee
     for (std::size_t i = 0; i < allowed.size(); ++i) {
       expected += (i == 0 ? " " : ", ") + in_quotes(allowed[i]);
     }
+    if (!value_pattern.empty()) expected += ", or text matching " + value_pattern;
   }
   const json* v = lookup(key, need, hint.empty() ? expected : expected + ": " + hint);
   if (v == nullptr) return std::nullopt;
@@ -394,7 +398,12 @@ std::optional<std::string> ObjectReader::string(const std::string& key, Need nee
     ctx_->error(child(key), "empty text (got " + describe_value(*v) + ", expected a non-empty string)");
     return std::nullopt;
   }
-  if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
+  const auto matches_pattern = [&] {
+    return !value_pattern.empty() &&
+           std::regex_match(s, std::regex(value_pattern, std::regex::ECMAScript));
+  };
+  if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end() &&
+      !matches_pattern()) {
     std::string message = "unknown value (got " + describe_value(*v) + ", expected " + expected + ")";
     if (auto near = nearest_key(s, allowed)) message += "; did you mean " + in_quotes(*near) + "?";
     ctx_->error(child(key), message);

@@ -106,10 +106,12 @@ class ObjectReader {
                               const Range& si_range);
   /// An array of exactly `count` numbers.
   std::optional<std::vector<double>> numbers(const std::string& key, Need need, std::size_t count);
-  /// A string; `nonempty` rejects ""; `allowed` (when not empty) limits its values.
+  /// A string; `nonempty` rejects ""; `allowed` (when not empty) limits its values, to which
+  /// `value_pattern` (an anchored ECMAScript regex, when not empty) adds every matching text.
   std::optional<std::string> string(const std::string& key, Need need, bool nonempty = true,
                                     const std::vector<std::string>& allowed = {},
-                                    const std::string& hint = "");
+                                    const std::string& hint = "",
+                                    const std::string& value_pattern = "");
   std::optional<bool> boolean(const std::string& key, Need need);
   /// A nested object.
   std::optional<ObjectReader> object(const std::string& key, Need need);

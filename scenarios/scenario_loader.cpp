@@ -629,7 +629,9 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
   const std::vector<std::string>& metrics = known_metric_names();
   for (ObjectReader& tr : r.objects("terms", Need::kRequired, 1)) {
     RubricTerm t;
-    if (auto s = tr.string("metric", Need::kRequired, true, metrics, "the metric to score")) t.metric = *s;
+    if (auto s = tr.string("metric", Need::kRequired, true, metrics, "the metric to score", zone_metric_pattern())) {
+      t.metric = *s;
+    }
     if (auto v = tr.number("expert_mean", Need::kRequired, Range::any())) t.expert_mean = *v;
     if (auto v = tr.number("expert_sd", Need::kRequired, {0.0, std::nullopt, true, false})) {
       t.expert_sd = *v;
@@ -642,7 +644,9 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
   // Every graded module states at least one safety gate (each safety metric passes on its own).
   for (ObjectReader& gr : r.objects("gates", Need::kRequired, 1)) {
     SafetyGate g;
-    if (auto s = gr.string("metric", Need::kRequired, true, metrics, "the metric to limit")) g.metric = *s;
+    if (auto s = gr.string("metric", Need::kRequired, true, metrics, "the metric to limit", zone_metric_pattern())) {
+      g.metric = *s;
+    }
     if (auto v = gr.number("max", Need::kRequired, Range::any())) g.max = *v;
     gr.finish();
     rubric.gates.push_back(g);

@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
                       "udp: seconds to wait for the bridge, and without packets before the "
                       "attempt ends as disconnected (default 5)")
       ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s,
+                      "Headless replay: save the attempt so far every this many simulated "
+                      "seconds, so a killed run keeps it (default 5; 0: never)")
+      ->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("--realtime", run.realtime,
                     "Ask for real-time priority for the haptic loop (needs the privilege)");
   run_cmd->add_option("--screenshot", run.screenshot,

@@ -30,6 +30,14 @@ AttemptStepper::AttemptStepper(const ScenarioModel& scenario, World& world, Inpu
   if (limit > 0) run_.record.frames.reserve(static_cast<std::size_t>(limit / dt) + 16);
   run_.record.events.reserve(1024);
   sample_.pose = scenario.world.instrument_start;
+  // Set now (it does not change) so checkpoints can compute metrics of the record so far.
+  run_.record.summary = world_.summary();
+}
+
+void AttemptStepper::set_checkpoints(double every_s, CheckpointSink sink) {
+  checkpoint_every_s_ = every_s;
+  next_checkpoint_s_ = world_.time_s() + every_s;
+  checkpoint_sink_ = std::move(sink);
 }
 
 bool AttemptStepper::step() {
@@ -53,6 +61,16 @@ bool AttemptStepper::step() {
     stop(AttemptEnd::kInputEnded);
   } else if (limit > 0 && world_.time_s() >= limit - 0.5 * dt) {
     stop(AttemptEnd::kTimeLimit);
+  }
+  // Half a step of slack so a checkpoint lands on the step that reaches its time.
+  if (checkpoint_sink_ && checkpoint_every_s_ > 0 && !ended_ &&
+      world_.time_s() >= next_checkpoint_s_ - 0.5 * dt) {
+    if (checkpoint_sink_(CheckpointView{run_.record, checkpointed_frames_, checkpointed_events_,
+                                        world_.time_s()})) {
+      checkpointed_frames_ = run_.record.frames.size();
+      checkpointed_events_ = run_.record.events.size();
+    }
+    next_checkpoint_s_ += checkpoint_every_s_;
   }
   return !ended_;
 }
@@ -78,7 +96,14 @@ AttemptRun AttemptStepper::finish(double wall_s) {
 
 AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
                        const StepObserver& observer) {
+  return run_attempt(scenario, world, device, observer, 0.0, {});
+}
+
+AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
+                       const StepObserver& observer, double checkpoint_every_s,
+                       CheckpointSink checkpoint_sink) {
   AttemptStepper stepper(scenario, world, device);
+  if (checkpoint_sink) stepper.set_checkpoints(checkpoint_every_s, std::move(checkpoint_sink));
   const auto start = std::chrono::steady_clock::now();
   for (;;) {
     const bool more = stepper.step();

@@ -30,6 +30,19 @@ struct AttemptRun {
 /// Called after every step; return false to stop the attempt (e.g. a window was closed).
 using StepObserver = std::function<bool(const World&, const Frame&)>;
 
+/// What a periodic checkpoint sees: the record so far (summary set) and where its new part
+/// starts. Valid only during the call.
+struct CheckpointView {
+  const AttemptRecording& record;
+  std::size_t first_new_frame = 0;  ///< frames before this were in earlier checkpoints
+  std::size_t first_new_event = 0;  ///< the same for events
+  double t_s = 0.0;                 ///< simulated time so far (s)
+};
+/// Saves a checkpoint (e.g. db append_checkpoint); runs on the stepping thread, so it should
+/// cost milliseconds, and only every few seconds of simulated time. Returns whether it was
+/// saved; when not, the next call gets this call's new part as well.
+using CheckpointSink = std::function<bool(const CheckpointView&)>;
+
 /// The attempt one step at a time, for whoever drives the clock: run_attempt's tight loop, or
 /// the haptic thread of a live attempt (ui/live_attempt.hpp). Each step reads the device,
 /// steps the world, sends the force back, records the frame and events, and checks the ends.
@@ -40,6 +53,10 @@ class AttemptStepper {
 
   /// One fixed step; returns false once the attempt has ended (then end() says why).
   bool step();
+  /// Calls `sink` after the step that reaches each multiple of `every_s` of simulated time
+  /// (every_s > 0), with what was recorded since the previous call. Set before the first step.
+  void set_checkpoints(double every_s, CheckpointSink sink);
+
   /// Ends the attempt from outside (window closed, Escape): no more steps.
   void stop(AttemptEnd why = AttemptEnd::kStopped);
   bool ended() const { return ended_; }
@@ -59,12 +76,20 @@ class AttemptStepper {
   DeviceSample sample_;
   bool ended_ = false;
   AttemptEnd end_ = AttemptEnd::kInputEnded;
+  double checkpoint_every_s_ = 0.0;
+  double next_checkpoint_s_ = 0.0;
+  std::size_t checkpointed_frames_ = 0, checkpointed_events_ = 0;
+  CheckpointSink checkpoint_sink_;
 };
 
 /// Steps `world` with `device` as described above. The world is left in its final state (for
 /// a picture of the last frame).
 AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
                        const StepObserver& observer = {});
+/// The same with periodic checkpoints (AttemptStepper::set_checkpoints).
+AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
+                       const StepObserver& observer, double checkpoint_every_s,
+                       CheckpointSink checkpoint_sink);
 
 /// Opens an input source from its command-line spelling: "replay:FILE.csv", or
 /// "udp:PORT" for a haptic bridge on loopback (engine/udp_device.hpp). ("mouse" needs a window

@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
+#include <vector>
 
+#include "assessment/metric_catalog.hpp"
 #include "engine/state_hash.hpp"
 
 namespace acdr {
@@ -158,6 +161,31 @@ std::string result_summary(const ResultContext& c) {
   std::snprintf(line, sizeof line, "  tip path               %8.1f mm\n",
                 metric("tip_path_length_mm"));
   s += line;
+  // Danger zones (issue 6): totals, then each zone that was approached.
+  const auto& zones = c.run.record.summary.zones;
+  if (!zones.empty()) {
+    std::snprintf(line, sizeof line,
+                  "  danger zones           %8g warnings, %g entries, %g never-events; peak force "
+                  "near a zone %.3f N, %.2f s near one\n",
+                  metric("zone_warnings"), metric("zone_entries"), metric("never_events"),
+                  metric("zone_peak_force_N"), metric("zone_dwell_s"));
+    s += line;
+    std::vector<std::string> names;
+    for (const auto& z : zones) names.push_back(z.name);
+    const std::vector<std::string> ids = zone_metric_ids(names);
+    for (const std::string& id : ids) {
+      const std::string dwell = zone_metric_name(id, "dwell_s");
+      if (metric(dwell.c_str()) <= 0.0) continue;
+      std::snprintf(line, sizeof line,
+                    "    %-26s closest %7.2f mm, %.2f s near, peak %.3f N, impulse %.4f N·s, "
+                    "%g entries\n",
+                    id.c_str(), metric(zone_metric_name(id, "closest_mm").c_str()),
+                    metric(dwell.c_str()), metric(zone_metric_name(id, "peak_force_N").c_str()),
+                    metric(zone_metric_name(id, "impulse_Ns").c_str()),
+                    metric(zone_metric_name(id, "entries").c_str()));
+      s += line;
+    }
+  }
   s += "  score by metric:\n";
   for (const TermScore& t : c.run.score.terms) {
     std::snprintf(line, sizeof line, "    %-28s %10.4g  -> %5.1f / 100\n", t.metric.c_str(),

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+#include <span>
+
 #include "assessment/metrics.hpp"
 
 namespace acdr {
@@ -59,8 +63,142 @@ TEST(Recording, DamagedDataIsRefused) {
   auto longer = bytes;
   longer.push_back(0);
   EXPECT_FALSE(decode_recording(longer, &error));
-  EXPECT_NE(error.find("trailing"), std::string::npos);
+  // v2 reads blocks to the end: a stray byte is a block cut short.
+  EXPECT_NE(error.find("truncated block"), std::string::npos) << error;
+  auto v1_longer = encode_recording_v1(sample_record());
+  v1_longer.push_back(0);
+  EXPECT_FALSE(decode_recording(v1_longer, &error));
+  EXPECT_NE(error.find("trailing"), std::string::npos) << error;
   EXPECT_FALSE(decode_recording({}, &error));
+}
+
+AttemptRecording zoned_record() {
+  AttemptRecording r = sample_record();
+  r.summary.zones = {{"vertebral_artery_left", 1.5e-3, 2.0, true}, {"Endplate C4", 1e-3, 5.0, false}};
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    Frame& f = r.frames[i];
+    f.zone_count = 2;
+    f.zones[0] = {static_cast<float>(3e-3 - 1e-5 * i), 0.01f * i, i > 290, i > 150};
+    f.zones[1] = {static_cast<float>(1e-3 * std::cos(0.05 * i)), 0.5f, false, i % 3 == 0};
+  }
+  Event e{0.151, EventKind::kZoneWarning, 1.49e-3, "vertebral_artery_left"};
+  e.zone = 0;
+  r.events.push_back(e);
+  e = {0.291, EventKind::kNeverEvent, -1e-5, "vertebral_artery_left"};
+  e.zone = 0;
+  r.events.push_back(e);
+  return r;
+}
+
+void expect_same_metrics(const AttemptRecording& a, const AttemptRecording& b) {
+  const Metrics ma = compute_metrics(a), mb = compute_metrics(b);
+  ASSERT_EQ(ma.values.size(), mb.values.size());
+  for (std::size_t i = 0; i < ma.values.size(); ++i) {
+    EXPECT_EQ(ma.values[i].first, mb.values[i].first);
+    EXPECT_EQ(ma.values[i].second, mb.values[i].second) << ma.values[i].first;  // bit-identical
+  }
+}
+
+TEST(Recording, V2KeepsZonesAndEventZonesForRescoring) {
+  const AttemptRecording r = zoned_record();
+  const auto bytes = encode_recording(r);
+  std::string error;
+  const auto back = decode_recording(bytes, &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->summary.zones.size(), 2u);
+  EXPECT_EQ(back->summary.zones[1].name, "Endplate C4");
+  EXPECT_EQ(back->summary.zones[0].warning_distance_m, 1.5e-3);
+  EXPECT_EQ(back->summary.zones[0].force_limit_N, 2.0);
+  EXPECT_TRUE(back->summary.zones[0].never_event);
+  EXPECT_FALSE(back->summary.zones[1].never_event);
+  ASSERT_EQ(back->events.size(), 4u);
+  EXPECT_EQ(back->events[3].kind, EventKind::kNeverEvent);
+  EXPECT_EQ(back->events[3].zone, 0);
+  EXPECT_EQ(back->events[0].zone, -1);
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    const Frame &x = r.frames[i], &y = back->frames[i];
+    ASSERT_EQ(x.t_s, y.t_s);
+    ASSERT_EQ(x.tip_m, y.tip_m);
+    ASSERT_EQ(x.instrument.orientation.coeffs(), y.instrument.orientation.coeffs());
+    ASSERT_EQ(x.input_valid, y.input_valid);
+    ASSERT_EQ(x.zone_count, y.zone_count);
+    for (int k = 0; k < 2; ++k) {
+      ASSERT_EQ(x.zones[k].distance_m, y.zones[k].distance_m);
+      ASSERT_EQ(x.zones[k].force_N, y.zones[k].force_N);
+      ASSERT_EQ(x.zones[k].inside, y.zones[k].inside);
+      ASSERT_EQ(x.zones[k].warning, y.zones[k].warning);
+    }
+  }
+  expect_same_metrics(r, *back);
+  EXPECT_NE(compute_metrics(*back).find("zone.endplate_c4.dwell_s"), nullptr);
+}
+
+TEST(Recording, PiecesWrittenAtCheckpointsConcatenateToTheSameRecording) {
+  const AttemptRecording r = zoned_record();
+  std::vector<std::uint8_t> bytes = encode_recording_header(r.summary);
+  // Checkpoints of 70 frames with the events so far, as a running attempt writes them.
+  std::size_t events_done = 0;
+  std::vector<std::size_t> boundaries;
+  for (std::size_t i = 0; i < r.frames.size(); i += 70) {
+    const std::size_t n = std::min<std::size_t>(70, r.frames.size() - i);
+    append_frame_block(std::span(r.frames).subspan(i, n), bytes);
+    std::size_t upto = events_done;
+    while (upto < r.events.size() && r.events[upto].t_s <= r.frames[i + n - 1].t_s) ++upto;
+    append_event_block(std::span(r.events).subspan(events_done, upto - events_done), bytes);
+    events_done = upto;
+    boundaries.push_back(bytes.size());
+  }
+  append_event_block(std::span(r.events).subspan(events_done), bytes);
+  std::string error;
+  const auto back = decode_recording(bytes, &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_EQ(back->frames.size(), r.frames.size());
+  EXPECT_EQ(back->events.size(), r.events.size());
+  expect_same_metrics(r, *back);
+
+  // A prefix ending on a checkpoint decodes to the frames so far; one cut inside a block does
+  // not decode at all.
+  std::vector<std::uint8_t> prefix(bytes.begin(), bytes.begin() + boundaries[1]);
+  const auto partial = decode_recording(prefix, &error);
+  ASSERT_TRUE(partial) << error;
+  EXPECT_EQ(partial->frames.size(), 140u);
+  prefix.resize(prefix.size() - 3);
+  EXPECT_FALSE(decode_recording(prefix, &error));
+  EXPECT_NE(error.find("truncated"), std::string::npos) << error;
+}
+
+TEST(Recording, OldV1RecordingsAreStillRead) {
+  const AttemptRecording r = sample_record();
+  const auto v1 = encode_recording_v1(r);
+  EXPECT_EQ(std::string(v1.begin(), v1.begin() + 8), "ACDRREC1");
+  std::string error;
+  const auto back = decode_recording(v1, &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_TRUE(back->summary.zones.empty());
+  expect_same_metrics(r, *back);
+  EXPECT_TRUE(is_known_recording_format("acdr-frames-v1"));
+  EXPECT_TRUE(is_known_recording_format(kRecordingFormat));
+  EXPECT_FALSE(is_known_recording_format("acdr-frames-v3"));
+}
+
+TEST(Recording, ManyBlocksAndSpecialValuesSurvive) {
+  AttemptRecording r = sample_record();
+  r.frames.resize(2 * kRecordingBlockFrames + 5, r.frames.back());
+  r.frames[10].bending_moment_Nm = std::numeric_limits<double>::quiet_NaN();
+  r.frames[11].bending_moment_Nm = -std::numeric_limits<double>::infinity();
+  r.frames[12].bending_moment_Nm = -0.0;
+  r.frames[13].removed_target = std::numeric_limits<std::int32_t>::min();
+  r.frames[14].removed_target = std::numeric_limits<std::int32_t>::max();
+  std::string error;
+  const auto back = decode_recording(encode_recording(r), &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->frames.size(), r.frames.size());
+  EXPECT_TRUE(std::isnan(back->frames[10].bending_moment_Nm));
+  EXPECT_EQ(back->frames[11].bending_moment_Nm, -std::numeric_limits<double>::infinity());
+  EXPECT_TRUE(std::signbit(back->frames[12].bending_moment_Nm));
+  EXPECT_EQ(back->frames[13].removed_target, std::numeric_limits<std::int32_t>::min());
+  EXPECT_EQ(back->frames[14].removed_target, std::numeric_limits<std::int32_t>::max());
+  EXPECT_EQ(back->frames.back().tip_m, r.frames.back().tip_m);
 }
 
 }  // namespace

@@ -51,5 +51,24 @@ TEST(Scoring, MissingMetricAndNumericalTroubleFail) {
   EXPECT_EQ(s.reasons.size(), 2u);  // missing 'force', numerical trouble
 }
 
+TEST(Scoring, NeverEventFailsWhateverTheRubricAndNamesTheZone) {
+  Metrics m;
+  m.set("removed", 0.9);
+  m.set("force", 0.1);
+  m.set("overloads", 0);
+  m.set("never_events", 0);
+  m.set("zone.vertebral_artery_left.never_event", 0);
+  m.set("zone.spinal_cord_pll.never_event", 0);
+  EXPECT_TRUE(score_attempt(m, rubric()).passed);
+  m.set("never_events", 1);
+  m.set("zone.spinal_cord_pll.never_event", 1);
+  const ScoreResult s = score_attempt(m, rubric());  // the rubric has no gate on it
+  EXPECT_GT(s.score, 50.0);
+  EXPECT_FALSE(s.passed);
+  ASSERT_EQ(s.reasons.size(), 1u);
+  EXPECT_NE(s.reasons[0].find("spinal_cord_pll"), std::string::npos) << s.reasons[0];
+  EXPECT_EQ(s.reasons[0].find("vertebral_artery_left"), std::string::npos) << s.reasons[0];
+}
+
 }  // namespace
 }  // namespace acdr

@@ -13,6 +13,8 @@
 #include <random>
 #include <thread>
 
+#include "assessment/metrics.hpp"
+#include "assessment/recording.hpp"
 #include "db/uuid.hpp"
 #include "tests/db/db_test_support.hpp"
 
@@ -470,6 +472,184 @@ TEST(AttemptStore, KillDuringARealFinishIsAllOrNothing) {
       EXPECT_FALSE(a.recording.has_value());
     }
   }
+}
+
+// --- checkpoints (append_checkpoint) ----------------------------------------------------------
+
+// A synthetic attempt near one never-event zone: frame i at t = (i + 1) ms, the tip moving
+// along x, within the warning band for frames 300..399.
+Frame checkpoint_frame(int i) {
+  Frame f;
+  f.t_s = (i + 1) * 1e-3;
+  f.tip_m = Vec3(1e-5 * i, 2e-3 * std::sin(1e-3 * i), 0.0);
+  f.nucleus_force_N = Vec3(0.0, 0.1, 0.2 + 1e-4 * (i % 97));
+  f.bending_moment_Nm = 1e-3 * (i % 50);
+  f.removed_target = i / 3;
+  f.zone_count = 1;
+  const bool near = i % 1000 >= 300 && i % 1000 < 400;
+  f.zones[0] = {near ? 1e-3f : 4e-3f, near ? 0.5f : 0.0f, false, near};
+  return f;
+}
+
+WorldSummary checkpoint_summary() {
+  WorldSummary s;
+  s.dt_s = 1e-3;
+  s.particle_volume_m3 = 1e-9;
+  s.initial_target = 5000;
+  s.zones = {{"spinal_cord_pll", 2e-3, 1.0, true}};
+  return s;
+}
+
+// The checkpoint of frames [from, to) as a running attempt writes it: the recording piece
+// (with the header before the first frames), the events of those frames, the metrics so far.
+AttemptCheckpoint make_checkpoint(AttemptRecording& so_far, int from, int to) {
+  AttemptCheckpoint c;
+  RecordingData chunk;
+  chunk.format = kRecordingFormat;
+  if (from == 0) chunk.bytes = encode_recording_header(so_far.summary);
+  const std::size_t first_event = so_far.events.size();
+  for (int i = from; i < to; ++i) {
+    so_far.frames.push_back(checkpoint_frame(i));
+    if (i % 1000 == 300) {
+      Event e{(i + 1) * 1e-3, EventKind::kZoneWarning, 1e-3, "spinal_cord_pll"};
+      e.zone = 0;
+      so_far.events.push_back(e);
+      c.new_events.push_back(EventRecord{e.t_s, "zone_warning", "spinal_cord_pll", e.value, "", 0});
+    }
+    if (i % 1000 == 500) {
+      so_far.events.push_back(Event{(i + 1) * 1e-3, EventKind::kOverloadWarning, 0.2, ""});
+      c.new_events.push_back(EventRecord{(i + 1) * 1e-3, "overload_warning", "", 0.2, ""});
+    }
+  }
+  append_frame_block(std::span(so_far.frames).subspan(static_cast<std::size_t>(from)), chunk.bytes);
+  append_event_block(std::span(so_far.events).subspan(first_event), chunk.bytes);
+  chunk.frame_count = to - from;
+  chunk.complete = false;
+  c.chunk = std::move(chunk);
+  c.metrics = compute_metrics(so_far);
+  c.duration_s = so_far.frames.back().t_s;
+  return c;
+}
+
+TEST(AttemptStore, CheckpointsAppendEventsAndRecordingPiecesAndKeepMetricsSoFar) {
+  TempDir dir;
+  Database db = test::open_or_fail(dir.file("record.sqlite"));
+  test::register_curriculum(db, 1);
+  const std::int64_t id = begin_attempt(db, practice_start()).value();
+  AttemptRecording so_far;
+  so_far.summary = checkpoint_summary();
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(append_checkpoint(db, id, make_checkpoint(so_far, 1000 * k, 1000 * (k + 1))).ok());
+  }
+  EXPECT_EQ(count_rows(db, "SELECT count(*) FROM recording_chunks WHERE attempt_id = ?", id), 3);
+
+  AttemptRecord a = *load_attempt(db, id).value();
+  EXPECT_EQ(a.status, AttemptStatus::kRunning);
+  EXPECT_EQ(a.duration_s, std::optional<double>(3.0));
+  ASSERT_EQ(a.events.size(), 6u);  // a warning and an overload per checkpoint, in order
+  EXPECT_EQ(a.events[2].kind, "zone_warning");
+  EXPECT_EQ(a.events[2].zone, "spinal_cord_pll");
+  EXPECT_EQ(a.events[2].zone_index, 0);
+  EXPECT_EQ(a.events[3].zone, "");
+  EXPECT_EQ(a.events[3].zone_index, -1);
+  // Not about a zone: NULL in the table, not ''.
+  EXPECT_EQ(count_rows(db, "SELECT count(*) FROM events WHERE attempt_id = ? AND zone IS NULL "
+                           "AND zone_index IS NULL", id), 3);
+  ASSERT_TRUE(a.recording.has_value());
+  EXPECT_FALSE(a.recording->complete);
+  EXPECT_EQ(a.recording->format, kRecordingFormat);
+  EXPECT_EQ(a.recording->frame_count, 3000);
+  std::string error;
+  const auto decoded = decode_recording(a.recording->bytes, &error);
+  ASSERT_TRUE(decoded) << error;
+  EXPECT_EQ(decoded->frames.size(), 3000u);
+  EXPECT_EQ(decoded->events.size(), 6u);
+  // The stored metrics are those of the stored recording, exactly.
+  EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
+  EXPECT_EQ(*a.metrics.find("zone.spinal_cord_pll.warnings"), 3.0);
+  EXPECT_FALSE(a.score.has_value());
+
+  // Finishing replaces the pieces with the whole recording, and all events.
+  AttemptOutcome outcome = test::make_outcome(75.0, true);
+  outcome.events = a.events;
+  outcome.recording = RecordingData{kRecordingFormat, 3000, encode_recording(so_far), true};
+  ASSERT_TRUE(finish_attempt(db, id, outcome).ok());
+  EXPECT_EQ(count_rows(db, "SELECT count(*) FROM recording_chunks WHERE attempt_id = ?", id), 0);
+  a = *load_attempt(db, id).value();
+  ASSERT_TRUE(a.recording.has_value());
+  EXPECT_TRUE(a.recording->complete);
+  EXPECT_EQ(decode_recording(a.recording->bytes, &error)->frames.size(), 3000u);
+  EXPECT_EQ(a.events.size(), 6u);
+  EXPECT_FALSE(append_checkpoint(db, id, AttemptCheckpoint{}).ok());  // no longer running
+}
+
+// Child body: an attempt checkpointed every 500 frames for ever; says "ready" after the
+// fourth checkpoint, and is killed by the parent some time later (maybe mid-transaction).
+[[noreturn]] void child_checkpointing_until_killed(const std::string& path, int ready_fd) {
+  DbResult<Database> db = open_store(path);
+  if (!db) _exit(10);
+  AttemptStart start = practice_start();
+  start.trainee_id = "t1";
+  DbResult<std::int64_t> id = begin_attempt(db.value(), start);
+  if (!id) _exit(11);
+  AttemptRecording so_far;
+  so_far.summary = checkpoint_summary();
+  for (int k = 0;; ++k) {
+    if (!append_checkpoint(db.value(), id.value(), make_checkpoint(so_far, 500 * k, 500 * (k + 1))))
+      _exit(12);
+    if (k == 3) {
+      const char ready = 'R';
+      if (write(ready_fd, &ready, 1) != 1) _exit(13);
+    }
+  }
+}
+
+TEST(AttemptStore, SigkillMidAttemptLeavesAnAbortedAttemptWithItsCheckpointedRecording) {
+  TempDir dir;
+  const std::string path = dir.file("record.sqlite");
+  {
+    Database db = test::open_or_fail(path);
+    test::register_curriculum(db, 1);
+  }  // no connection open across fork()
+  int pipe_fds[2];
+  ASSERT_EQ(pipe(pipe_fds), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    close(pipe_fds[0]);
+    child_checkpointing_until_killed(path, pipe_fds[1]);
+  }
+  close(pipe_fds[1]);
+  char ready = 0;
+  const ssize_t got = read(pipe_fds[0], &ready, 1);
+  close(pipe_fds[0]);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));  // a few more checkpoints
+  ASSERT_EQ(kill(child, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_EQ(got, 1) << "child exited early with code "
+                    << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  ASSERT_TRUE(WIFSIGNALED(status));
+
+  Database db = test::open_or_fail(path);  // the next start marks the attempt aborted
+  EXPECT_EQ(integrity_check(db), "ok");
+  auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
+  ASSERT_TRUE(attempts.ok()) << attempts.error().message;
+  ASSERT_EQ(attempts->size(), 1u);
+  const AttemptRecord& a = attempts->front();
+  EXPECT_EQ(a.status, AttemptStatus::kAborted);
+  ASSERT_TRUE(a.recording.has_value());
+  EXPECT_FALSE(a.recording->complete);
+  EXPECT_GE(a.recording->frame_count, 2000);
+  EXPECT_EQ(a.recording->frame_count % 500, 0);  // whole checkpoints only
+  std::string error;
+  const auto decoded = decode_recording(a.recording->bytes, &error);
+  ASSERT_TRUE(decoded) << error;
+  EXPECT_EQ(static_cast<std::int64_t>(decoded->frames.size()), a.recording->frame_count);
+  // What was recorded and what was measured belong to the same checkpoint.
+  EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
+  EXPECT_EQ(a.duration_s, std::optional<double>(decoded->frames.back().t_s));
+  EXPECT_EQ(a.events.size(), decoded->events.size());
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include "db/schema.hpp"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include "db/database.hpp"
 #include "tests/db/db_test_support.hpp"
@@ -24,7 +25,7 @@ TEST(Schema, EveryEntityHasItsTable) {
   Database db = test::open_or_fail(dir.file("record.sqlite"));
   for (const char* table : {"trainees", "curricula", "modules", "module_prerequisites",
                             "attempts", "metrics", "events", "recordings", "score_terms",
-                            "score_gates", "score_reasons"}) {
+                            "score_gates", "score_reasons", "recording_chunks"}) {
     DbResult<Statement> s = db.prepare("SELECT count(*) FROM sqlite_schema WHERE name = ?");
     ASSERT_TRUE(s->bind_all(table).ok());
     ASSERT_TRUE(s->step().value());
@@ -67,6 +68,45 @@ TEST(Schema, ConstraintsHold) {
       "(SELECT count(*) FROM score_terms)");
   ASSERT_TRUE(left->step().value());
   EXPECT_EQ(left->column_int64(0), 0);
+}
+
+// A record written by a v1 program (events with '' for "no zone") is upgraded in place when a
+// v2 program opens it: '' becomes NULL, zone names stay, recording_chunks appears.
+TEST(Schema, MigratesAVersion1RecordKeepingItsEvents) {
+  test::TempDir dir;
+  const std::string path = dir.file("v1.sqlite");
+  {
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    const std::string sql =
+        std::string(schema_migrations()[0].sql) +
+        "PRAGMA user_version = 1; PRAGMA application_id = " + std::to_string(kApplicationId) +
+        ";"
+        "INSERT INTO modules (id) VALUES ('m1');"
+        "INSERT INTO attempts (uuid, registration, module_id, started_utc, heartbeat_utc, "
+        "  writer_pid, writer_host) VALUES ('u1', 'r1', 'm1', 't', 't', 1, 'h');"
+        "INSERT INTO events (attempt_id, seq, t_s, kind, zone, value) VALUES "
+        "  (1, 0, 0.5, 'zone_warning', 'foramen_left', 1.5), (1, 1, 0.7, 'overload_warning', '', 0.3);";
+    char* message = nullptr;
+    ASSERT_EQ(sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, &message), SQLITE_OK)
+        << (message ? message : "");
+    sqlite3_close(raw);
+  }
+  Database db = test::open_or_fail(path);
+  EXPECT_EQ(db.pragma_int("user_version").value(), kSchemaVersion);
+  DbResult<Statement> s = db.prepare(
+      "SELECT kind, zone, zone_index FROM events WHERE attempt_id = 1 ORDER BY seq");
+  ASSERT_TRUE(s.ok());
+  ASSERT_TRUE(s->step().value());
+  EXPECT_EQ(s->column_optional_text(1), std::optional<std::string>("foramen_left"));
+  EXPECT_TRUE(s->column_is_null(2));
+  ASSERT_TRUE(s->step().value());
+  EXPECT_EQ(s->column_text(0), "overload_warning");
+  EXPECT_TRUE(s->column_is_null(1));
+  EXPECT_FALSE(s->step().value());
+  // '' is no longer a zone name the table accepts: "no zone" has one spelling.
+  EXPECT_FALSE(db.exec("INSERT INTO events (attempt_id, seq, kind, zone) VALUES (1, 2, 'x', '')").ok());
+  EXPECT_TRUE(db.exec("SELECT count(*) FROM recording_chunks").ok());
 }
 
 }  // namespace

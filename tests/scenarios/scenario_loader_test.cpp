@@ -510,6 +510,26 @@ TEST(ScenarioLoaderErrors, UnknownMetricAndMaterialAreCaught) {
   EXPECT_NE(material->message.find("expected one of \"nucleus\""), std::string::npos);
 }
 
+// Per-zone metrics (issue 6) are named "zone.<zone-id>.<quantity>": any such name loads, a
+// malformed one is an error that states the pattern.
+TEST(ScenarioLoaderErrors, ZoneMetricNamesFollowThePattern) {
+  const std::string gate = "{ \"metric\": \"overload_events\", \"max\": 0 }";
+  std::string text = replace_once(box_module_text(), gate,
+                                   gate + ", { \"metric\": \"zone.spinal_cord_pll.peak_force_N\", \"max\": 1.5 }"
+                                          ", { \"metric\": \"never_events\", \"max\": 0 }");
+  const LoadResult ok = load_scenario_text(text, "zones.json");
+  ASSERT_TRUE(ok.ok()) << to_string(ok.errors);
+  ASSERT_EQ(ok.model->rubric.gates.size(), 3u);
+  EXPECT_EQ(ok.model->rubric.gates[1].metric, "zone.spinal_cord_pll.peak_force_N");
+  EXPECT_EQ(ok.model->rubric.gates[2].metric, "never_events");
+
+  text = replace_once(box_module_text(), gate, "{ \"metric\": \"zone.Spinal Cord.peak_force\", \"max\": 0 }");
+  const auto errors = errors_of(text);
+  const ScenarioError* metric = find_error(errors, "/rubric/gates/0/metric");
+  ASSERT_NE(metric, nullptr);
+  EXPECT_NE(metric->message.find("or text matching ^zone"), std::string::npos) << metric->message;
+}
+
 TEST(ScenarioLoaderErrors, DuplicateKeyIsNotSilentlyCollapsed) {
   const std::string text = replace_once(box_module_text(), "\"mass_g\": 30", "\"mass_g\": 30, \"mass_g\": 40");
   const auto errors = errors_of(text);

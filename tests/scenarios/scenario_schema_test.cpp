@@ -157,8 +157,14 @@ TEST_F(ScenarioSchema, AgreesOnTypesRequiredBoundsAndValues) {
     if (info.max_items) {
       EXPECT_EQ(node.value("maxItems", json()), *info.max_items);
     }
-    if (!info.enum_values.empty()) {
+    if (!info.enum_values.empty() && info.value_pattern.empty()) {
       EXPECT_EQ(node.value("enum", json()), json(info.enum_values));
+    }
+    // A fixed list plus a pattern: anyOf [{enum}, {pattern}].
+    if (!info.value_pattern.empty()) {
+      EXPECT_FALSE(node.contains("enum"));
+      EXPECT_EQ(node.value("anyOf", json()),
+                json::array({{{"enum", info.enum_values}}, {{"pattern", info.value_pattern}}}));
     }
   }
 }
@@ -167,8 +173,11 @@ TEST_F(ScenarioSchema, EnumsMatchTheLoadersTables) {
   std::vector<std::string> presets;
   for (const DevicePreset& p : device_presets()) presets.emplace_back(p.name);
   EXPECT_EQ(schema_["properties"]["world"]["properties"]["device"]["properties"]["preset"]["enum"], json(presets));
-  EXPECT_EQ(schema_["properties"]["rubric"]["properties"]["gates"]["items"]["properties"]["metric"]["enum"],
-            json(known_metric_names()));
+  for (const char* list : {"terms", "gates"}) {
+    const json& metric = schema_["properties"]["rubric"]["properties"][list]["items"]["properties"]["metric"];
+    EXPECT_EQ(metric["anyOf"][0]["enum"], json(known_metric_names())) << list;
+    EXPECT_EQ(metric["anyOf"][1]["pattern"], zone_metric_pattern()) << list;
+  }
 }
 
 TEST_F(ScenarioSchema, DescribesEveryKey) {

@@ -63,9 +63,9 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
       return 2;
     }
     const RecordingData& data = *full.value()->recording;
-    if (data.format != kRecordingFormat) {
+    if (!is_known_recording_format(data.format)) {
       err << db_path << ": attempt " << row.id << ": recording format '" << data.format
-          << "' (expected " << kRecordingFormat << ")\n";
+          << "' (expected " << kRecordingFormat << " or " << kRecordingFormatV1 << ")\n";
       return 2;
     }
     std::string error;

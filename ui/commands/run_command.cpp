@@ -7,7 +7,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <span>
 
+#include "assessment/metrics.hpp"
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
@@ -23,6 +25,67 @@
 
 namespace acdr {
 namespace {
+
+// The engine's events as the record stores them: zone events carry the zone's index, the
+// record keeps its name too.
+std::vector<EventRecord> event_records(std::span<const Event> events,
+                                       const std::vector<WorldSummary::Zone>& zones) {
+  std::vector<EventRecord> out;
+  out.reserve(events.size());
+  for (const Event& e : events) {
+    const bool known = e.zone >= 0 && static_cast<std::size_t>(e.zone) < zones.size();
+    out.push_back(EventRecord{e.t_s, event_kind_name(e.kind),
+                              known ? zones[static_cast<std::size_t>(e.zone)].name : std::string(),
+                              e.value, e.detail, known ? e.zone : -1});
+  }
+  return out;
+}
+
+// A checkpoint of a running attempt from what was recorded since the last one: the next
+// recording piece (the header first), the new events, the metrics so far. Warns once when the
+// store refuses (the attempt goes on; the next checkpoint carries the missed part).
+class CheckpointWriter {
+ public:
+  CheckpointWriter(Database& db, std::int64_t attempt_id, std::ostream& err)
+      : db_(db), attempt_id_(attempt_id), err_(err) {}
+
+  bool operator()(const CheckpointView& view) {
+    const AttemptRecording& record = view.record;
+    AttemptCheckpoint checkpoint;
+    RecordingData chunk;
+    chunk.format = kRecordingFormat;
+    chunk.complete = false;
+    if (!header_saved_) chunk.bytes = encode_recording_header(record.summary);
+    const std::span<const Frame> frames =
+        std::span<const Frame>(record.frames).subspan(view.first_new_frame);
+    const std::span<const Event> events =
+        std::span<const Event>(record.events).subspan(view.first_new_event);
+    append_frame_block(frames, chunk.bytes);
+    append_event_block(events, chunk.bytes);
+    chunk.frame_count = static_cast<std::int64_t>(frames.size());
+    checkpoint.chunk = std::move(chunk);
+    checkpoint.new_events = event_records(events, record.summary.zones);
+    checkpoint.metrics = compute_metrics(record);
+    checkpoint.duration_s = view.t_s;
+    if (auto saved = append_checkpoint(db_, attempt_id_, checkpoint); !saved) {
+      if (!warned_) err_ << "warning: checkpoint not saved: " << saved.error().message << "\n";
+      warned_ = true;
+      return false;
+    }
+    header_saved_ = true;
+    ++saved_;
+    return true;
+  }
+  int saved() const { return saved_; }
+
+ private:
+  Database& db_;
+  std::int64_t attempt_id_;
+  std::ostream& err_;
+  bool header_saved_ = false;
+  bool warned_ = false;
+  int saved_ = 0;
+};
 
 // Stores the run: finished in one transaction, or aborted when the trainee abandoned it.
 // Returns false with `error` set when the store refused.
@@ -41,14 +104,7 @@ bool store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run, con
   outcome.metrics = run.metrics;
   outcome.score = run.score;
   outcome.duration_s = world.time_s();
-  const auto& zones = run.record.summary.zones;
-  for (const Event& e : run.record.events) {
-    // Zone events carry the zone's index; the record keeps its name.
-    const std::string zone = e.zone >= 0 && static_cast<std::size_t>(e.zone) < zones.size()
-                                 ? zones[static_cast<std::size_t>(e.zone)].name
-                                 : std::string();
-    outcome.events.push_back(EventRecord{e.t_s, event_kind_name(e.kind), zone, e.value, e.detail});
-  }
+  outcome.events = event_records(run.record.events, run.record.summary.zones);
   RecordingData recording;
   recording.format = kRecordingFormat;
   recording.frame_count = static_cast<std::int64_t>(run.record.frames.size());
@@ -244,7 +300,9 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
       haptics.device_ticks_zeroed = attempt.device_zeroed_ticks();
       live = true;
     } else {
-      run = run_attempt(scenario, world, *device);
+      CheckpointWriter checkpoints(db.value(), attempt_id.value(), err);
+      run = run_attempt(scenario, world, *device, {}, options.checkpoint_every_s,
+                        [&checkpoints](const CheckpointView& view) { return checkpoints(view); });
     }
     std::string store_error;
     if (!store_run(db.value(), attempt_id.value(), run, world, options, &stored_as,

@@ -35,6 +35,10 @@ struct RunOptions {
   double close_after_s = -1.0;
   /// Run the haptic loop with real-time priority when the OS grants it (haptics.realtime).
   bool realtime = false;
+  /// Headless replay: store a checkpoint (recording so far, events, metrics) every this many
+  /// simulated seconds, so a killed run leaves an aborted attempt with what was recorded
+  /// (0: never).
+  double checkpoint_every_s = 5.0;
 };
 
 /// Exit codes: 0 attempt completed (passed or not), 1 the simulation failed numerically,
