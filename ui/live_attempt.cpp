@@ -14,7 +14,10 @@ HapticLoopOptions with_scenario_rate(HapticLoopOptions options, const ScenarioMo
 
 bool LiveAttempt::DeviceLink::sample(double, DeviceSample& out) {
   const bool fresh = samples.read([&](const DeviceSample& s) { out = s; }, &seen_);
-  if (fresh) consumed_position_ = out.pose.position;
+  if (fresh) {
+    consumed_position_ = out.pose.position;
+    fault_pending.store(false, std::memory_order_release);
+  }
   return fresh;
 }
 
@@ -71,8 +74,19 @@ void LiveAttempt::start() {
 bool LiveAttempt::device_tick() {
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                  device_start_).count();
-  if (device_.sample(t, device_sample_))
-    link_->samples.try_publish([&](DeviceSample& s) { s = device_sample_; });
+  if (device_.sample(t, device_sample_)) {
+    // A non-finite pose lasts one packet: it is handed over even if the physics is busy, and
+    // newer poses wait until the physics has seen it, so its guard rejects it and records it.
+    const bool fault = !device_sample_.pose.position.allFinite() ||
+                       !device_sample_.pose.orientation.coeffs().allFinite();
+    if (fault) {
+      // Flag first: the physics clears it when it reads, which must be after the publish.
+      link_->fault_pending.store(true, std::memory_order_release);
+      link_->samples.publish([&](DeviceSample& s) { s = device_sample_; });
+    } else if (!link_->fault_pending.load(std::memory_order_acquire)) {
+      link_->samples.try_publish([&](DeviceSample& s) { s = device_sample_; });
+    }
+  }
   PhysicsForce physics;
   link_->forces.read([&](const PhysicsForce& f) { physics = f; });
   const LocalForce f = local_->force(physics, device_sample_.pose.position, device_sample_.stale);
@@ -84,7 +98,8 @@ bool LiveAttempt::device_tick() {
     return false;
   }
   // A sample the physics has not seen yet (end, disconnect) is handed over until it is.
-  if (device_sample_.end || device_sample_.disconnected)
+  if ((device_sample_.end || device_sample_.disconnected) &&
+      !link_->fault_pending.load(std::memory_order_acquire))
     link_->samples.publish([&](DeviceSample& s) { s = device_sample_; });
   return true;
 }

@@ -85,6 +85,8 @@ class LiveAttempt {
 
     LatestValue<DeviceSample> samples;  ///< written by the device loop
     LatestValue<PhysicsForce> forces;   ///< written by the physics loop
+    /// A faulty sample waits for the physics to read it (set by the device loop).
+    std::atomic<bool> fault_pending{false};
 
    private:
     InputDevice& device_;
