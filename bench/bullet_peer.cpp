@@ -50,22 +50,6 @@ btCollisionShape* make_shape(const Collider& c) {
   return s;
 }
 
-/// Pose along the path at time t after the start (linear in position, slerp in orientation).
-Pose path_at(const Pose& start, const std::vector<Pose>& path, double sample_s, double t) {
-  if (path.empty()) return start;
-  const double u = t / sample_s;  // path[k] is at (k + 1) * sample_s
-  const double k_f = std::floor(u);
-  const auto k = static_cast<long>(k_f);
-  if (k >= static_cast<long>(path.size())) return path.back();
-  const Pose& a = k <= 0 ? start : path[k - 1];
-  const Pose& b = path[std::max<long>(k, 0)];
-  const double w = std::clamp(u - k_f, 0.0, 1.0);
-  Pose p;
-  p.position = (1.0 - w) * a.position + w * b.position;
-  p.orientation = a.orientation.slerp(w, b.orientation);
-  return p;
-}
-
 }  // namespace
 
 RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
@@ -172,9 +156,9 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
   for (std::int64_t k = 0; k < steps; ++k) {
     const double t = double(k) * dt;
     Vec3 force = Vec3::Zero();
-    Pose now = path_at(start, path, window.sample_s, t);
+    Pose now = pose_on_path(start, path, window.sample_s, t);
     if (instrument) {
-      const Pose next = path_at(start, path, window.sample_s, t + dt);
+      const Pose next = pose_on_path(start, path, window.sample_s, t + dt);
       const Vec3 v = (next.position - now.position) / dt;
       Quat dq = next.orientation * now.orientation.conjugate();
       if (dq.w() < 0) dq.coeffs() *= -1.0;
@@ -205,7 +189,7 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
     if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt) {
       out.t_s.push_back(boundary);
       out.force_N.push_back(f_sum / f_count);
-      out.instrument.push_back(path_at(start, path, window.sample_s, t_rel));
+      out.instrument.push_back(pose_on_path(start, path, window.sample_s, t_rel));
       f_sum = Vec3::Zero();
       f_count = 0;
     }
