@@ -13,6 +13,10 @@ const char* event_kind_name(EventKind kind) {
     case EventKind::kAttemptEnd: return "attempt_end";
     case EventKind::kInputLost: return "input_lost";
     case EventKind::kDeviceDisconnected: return "device_disconnected";
+    case EventKind::kZoneWarning: return "zone_warning";
+    case EventKind::kZoneEntry: return "zone_entry";
+    case EventKind::kNeverEvent: return "never_event";
+    case EventKind::kZoneForce: return "zone_force";
   }
   return "unknown";
 }

@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <pthread.h>
+#include <sched.h>
+
 #ifdef __linux__
 #include <sys/prctl.h>
 #endif
@@ -69,6 +72,7 @@ HapticLoopStats HapticLoop::summarize(bool quantiles) const {
   s.work_max_ms = 1e3 * work_.max_s();
   s.overruns = overruns_;
   s.resyncs = resyncs_;
+  s.realtime = realtime_;
   return s;
 }
 
@@ -84,6 +88,12 @@ void HapticLoop::run() {
   // 1 ms period that is 5 % jitter, so ask for 1 µs on this thread.
   prctl(PR_SET_TIMERSLACK, 1000UL, 0, 0, 0);
 #endif
+  if (options_.realtime_priority) {
+    // A middle real-time priority: above every normal thread, below the kernel's own.
+    sched_param param{};
+    param.sched_priority = std::max(1, sched_get_priority_max(SCHED_FIFO) / 2);
+    realtime_ = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+  }
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(1.0 / std::max(options_.rate_hz, 1.0)));

@@ -28,6 +28,10 @@ struct HapticLoopOptions {
   /// the cost of a busy core. 0 by default (the machine is shared); Linux's timer slack is
   /// reduced to 1 µs on the loop's thread either way.
   double spin_s = 0.0;
+  /// Ask the OS for real-time scheduling (SCHED_FIFO) on the loop's thread, as haptic
+  /// drivers do. Needs the privilege (root or CAP_SYS_NICE, or an rtprio limit); whether it
+  /// was granted is reported in HapticLoopStats::realtime. Off by default.
+  bool realtime_priority = false;
 };
 
 /// What the loop achieved. Periods and work times in milliseconds.
@@ -45,6 +49,7 @@ struct HapticLoopStats {
   double work_max_ms = 0.0;
   std::int64_t overruns = 0;       ///< ticks whose work took longer than one period
   std::int64_t resyncs = 0;        ///< schedule restarts after falling max_lag_s behind
+  bool realtime = false;           ///< the thread ran with real-time priority
 };
 
 /// A histogram of durations in fixed 10 µs bins up to 100 ms (plus an overflow bin): O(1)
@@ -113,6 +118,7 @@ class HapticLoop {
   std::int64_t overruns_ = 0;
   std::int64_t resyncs_ = 0;
   double wall_s_ = 0.0;
+  bool realtime_ = false;
 
   mutable std::mutex published_mutex_;
   HapticLoopStats published_;            ///< guarded by published_mutex_

@@ -138,6 +138,7 @@ Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
       for (int j = 0; j < n.y(); ++j)
         for (int i = 0; i < n.x(); ++i) {
           const Vec3 p = block.min_m + h_ * Vec3(i + 0.5, j + 0.5, k + 0.5);
+          if (!block.contains(p)) continue;  // anatomy (issue 4): cylinder, ring, cutout
           bool inside = false;
           for (const auto& c : static_colliders)
             if (signed_distance(c, p, nullptr) < 0.5 * contact) inside = true;
@@ -581,6 +582,9 @@ bool collider_bounds(const Collider& c, Vec3* lo, Vec3* hi) {
   Vec3 e = Vec3::Zero();
   switch (c.kind) {
     case ColliderKind::kHalfSpace: return false;
+    // Bone: the sampled field may be clipped to the disc space while the bone goes on beyond
+    // it, so no box bounds the solid; it is tested for every particle (one trilinear lookup).
+    case ColliderKind::kSdfGrid: return false;
     case ColliderKind::kBox:
       e = c.pose.orientation.toRotationMatrix().cwiseAbs() * c.half_extents_m;
       break;

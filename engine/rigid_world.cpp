@@ -55,6 +55,12 @@ struct RigidWorld::Impl {
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &collision_config};
 
+  // Bone meshes (issue 4), declared before the shapes that read them so they outlive them:
+  // vertex and index copies in millimetres, their arrays, the unscaled BVH shapes.
+  std::vector<std::vector<btScalar>> mesh_vertices;
+  std::vector<std::vector<int>> mesh_indices;
+  std::vector<std::unique_ptr<btTriangleIndexVertexArray>> mesh_arrays;
+  std::vector<std::unique_ptr<btBvhTriangleMeshShape>> mesh_shapes;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> statics;
   std::unique_ptr<btCompoundShape> instrument_shape;
@@ -116,6 +122,10 @@ RigidWorld::RigidWorld(const WorldConfig& config, const InstrumentGeometry* inst
                            false);
           }
         }
+        // The hull caches its box with the margin it has when the box is computed; with the
+        // default 0.04 (40 mm here) every query against bone returned thousands of triangles
+        // (found with the anatomy, issue 4: 300 ms per step). Set the margin first.
+        hull->setMargin(kMargin);
         hull->recalcLocalAabb();
         shape = std::move(hull);
       } else {
@@ -200,6 +210,35 @@ void RigidWorld::place_instrument(const Pose& grip) {
   body->setAngularVelocity(btVector3(0, 0, 0));
   body->clearForces();
 }
+
+// --- anatomy (issue 4) ---
+void RigidWorld::add_static_mesh(const TriangleMesh& mesh) {
+  // Bullet's BVH grows every triangle's box to at least 0.002 units a side (btOptimizedBvh,
+  // MIN_AABB_DIMENSION), i.e. 2 mm in this metre world: every query would then return hundreds
+  // of the bone's sub-millimetre triangles (measured: 300 ms per step). So the BVH is built in
+  // millimetres and scaled back by btScaledBvhTriangleMeshShape, where that floor is 2 um.
+  constexpr double kUnitsPerMetre = 1000.0;
+  auto& vertices = impl_->mesh_vertices.emplace_back();
+  vertices.reserve(3 * mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices)
+    for (int k = 0; k < 3; ++k) vertices.push_back(static_cast<btScalar>(v[k] * kUnitsPerMetre));
+  auto& indices = impl_->mesh_indices.emplace_back();
+  indices.reserve(3 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    for (std::uint32_t i : t) indices.push_back(static_cast<int>(i));
+  auto array = std::make_unique<btTriangleIndexVertexArray>(
+      static_cast<int>(mesh.triangles.size()), indices.data(), static_cast<int>(3 * sizeof(int)),
+      static_cast<int>(mesh.vertices.size()), vertices.data(), static_cast<int>(3 * sizeof(btScalar)));
+  auto bvh = std::make_unique<btBvhTriangleMeshShape>(array.get(), true);
+  bvh->setMargin(kMargin * kUnitsPerMetre);
+  auto shape = std::make_unique<btScaledBvhTriangleMeshShape>(
+      bvh.get(), btVector3(1.0 / kUnitsPerMetre, 1.0 / kUnitsPerMetre, 1.0 / kUnitsPerMetre));
+  shape->setMargin(kMargin);
+  impl_->add_static(std::move(shape), btTransform::getIdentity());
+  impl_->mesh_arrays.push_back(std::move(array));
+  impl_->mesh_shapes.push_back(std::move(bvh));
+}
+// --- end anatomy ---
 
 RigidContact RigidWorld::step(double dt, const Vec3& force_N, const Vec3& torque_Nm) {
   RigidContact contact;

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "engine/collider.hpp"
+#include "engine/triangle_mesh.hpp"
 #include "engine/instrument.hpp"
 #include "engine/world_config.hpp"
 
@@ -45,6 +46,11 @@ class RigidWorld {
 
   /// Places the instrument (grip pose) at rest, e.g. at the start.
   void place_instrument(const Pose& grip);
+
+  /// Adds a static closed triangle mesh (bone, world frame) as a Bullet BVH triangle mesh with
+  /// a 0.1 mm margin (built in millimetres, see rigid_world.cpp). The mesh is copied.
+  /// (anatomy, issue 4)
+  void add_static_mesh(const TriangleMesh& mesh);
 
  private:
   struct Impl;

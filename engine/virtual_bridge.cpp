@@ -121,6 +121,7 @@ VirtualBridgeResult VirtualBridge::run(const std::atomic<bool>* stop) {
   // Play at the fixed rate on a haptic loop (the same pacing as the simulator's).
   HapticLoopOptions loop_options;
   loop_options.rate_hz = options_.rate_hz;
+  loop_options.realtime_priority = options_.realtime_priority;
   HapticLoop loop(loop_options);
   const double duration = trajectory_.duration_s();
   const double dt = 1.0 / options_.rate_hz;

@@ -27,6 +27,7 @@ struct VirtualBridgeOptions {
   /// After end-of-attempt, how long to wait for the simulator's attempt-over (s).
   double linger_s = 1.0;
   bool log_forces = true;  ///< keep every force received (VirtualBridgeResult::forces)
+  bool realtime_priority = false;  ///< real-time priority for the send loop, when granted
 
   // Fault injection (off by default); times are trajectory times (s).
   int drop_every = 0;              ///< > 0: do not send every n-th pose packet (loss)

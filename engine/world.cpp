@@ -49,12 +49,28 @@ const char* step_stage_name(StepStage stage) {
   return "?";
 }
 
+static_assert(Frame::kZoneCapacity == kMaxZones, "Frame::zones must hold every zone");
+
 World::World(const WorldConfig& config)
     : config_(config), guard_(config.device, config.instrument_start, config.solver.dt_s) {
   static_colliders_ = build_static_colliders(config_);
+  // --- anatomy (issue 4): vertebrae, their distance grid for the particles, the zones ---
+  if (config_.anatomy.enabled) {
+    anatomy_ = std::make_unique<Anatomy>(config_.anatomy);
+    static_colliders_.push_back(anatomy_->bone_collider());
+    for (const DangerZone& z : anatomy_->zones())
+      summary_.zones.push_back({z.name, z.warning_distance_m, z.force_limit_N, z.never_event});
+    frame_.zone_count = static_cast<std::int32_t>(anatomy_->zones().size());
+  }
+  // --- end anatomy ---
   if (config_.instrument.enabled) instrument_.emplace(config_.instrument);
   rigid_ = std::make_unique<RigidWorld>(config_, instrument_ ? &*instrument_ : nullptr,
                                         static_colliders_);
+  if (anatomy_) {
+    // Bone as static Bullet triangle meshes: the instrument's contacts with it are measured.
+    rigid_->add_static_mesh(anatomy_->vertebra(VertebraLevel::kC4));
+    rigid_->add_static_mesh(anatomy_->vertebra(VertebraLevel::kC5));
+  }
   if (config_.nucleus.enabled)
     nucleus_ = std::make_unique<Nucleus>(config_.nucleus, config_.solver, config_.gravity_m_s2,
                                          static_colliders_);
@@ -92,6 +108,39 @@ World::~World() = default;
 void World::emit(EventKind kind, double value, const char* detail) {
   if (events_.size() < events_.capacity()) events_.push_back(Event{t_, kind, value, detail});
 }
+
+// --- anatomy (issue 4) ---
+// Distances from the instrument (at its new pose, in moving_) to every zone, into the frame;
+// events on the rising edge of warning, entry (a never-event zone's entry also emits
+// kNeverEvent) and force above the zone's limit while near it.
+void World::evaluate_zones_and_emit(const Vec3& tissue_force_N) {
+  if (!anatomy_ || !instrument_) return;
+  const auto& zones = anatomy_->zones();
+  const std::size_t n = zones.size();
+  evaluate_zones(zones, moving_, tissue_force_N, std::span<ZoneSample>(zone_samples_.data(), n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const ZoneSample& s = zone_samples_[i];
+    const DangerZone& z = zones[i];
+    frame_.zones[i] = {static_cast<float>(s.distance_m), static_cast<float>(s.force_N), s.inside,
+                       s.warning};
+    const bool over = s.warning && s.force_N > z.force_limit_N;
+    auto zone_event = [&](EventKind kind, double value) {
+      const std::size_t before = events_.size();
+      emit(kind, value, z.name.c_str());
+      if (events_.size() > before) events_.back().zone = static_cast<std::int32_t>(i);
+    };
+    if (s.warning && !zone_warn_active_[i]) zone_event(EventKind::kZoneWarning, s.distance_m);
+    if (s.inside && !zone_inside_active_[i]) {
+      zone_event(EventKind::kZoneEntry, s.distance_m);
+      if (z.never_event) zone_event(EventKind::kNeverEvent, s.distance_m);
+    }
+    if (over && !zone_force_active_[i]) zone_event(EventKind::kZoneForce, s.force_N);
+    zone_warn_active_[i] = s.warning;
+    zone_inside_active_[i] = s.inside;
+    zone_force_active_[i] = over;
+  }
+}
+// --- end anatomy ---
 
 void World::drain_events(std::vector<Event>& out) {
   out.insert(out.end(), events_.begin(), events_.end());
@@ -239,6 +288,14 @@ const Frame& World::step(const DeviceSample& sample) {
       emit(EventKind::kOverloadYield, frame_.bending_moment_Nm, "shaft moment above yield");
     warning_active_ = warn;
     yield_active_ = yield;
+
+    // --- anatomy (issue 4): danger zones against the instrument at its new pose; the force
+    // near a zone is what the instrument presses on tissue (bone contact and nucleus).
+    if (anatomy_) {
+      instrument_->world_colliders(g1, vg1, rigid_->instrument_angular_velocity(), moving_);
+      evaluate_zones_and_emit(contact.force_N + nucleus_force);
+    }
+    // --- end anatomy ---
 
     if (!g1.position.allFinite() || !g1.orientation.coeffs().allFinite() ||
         !vg1.allFinite()) {

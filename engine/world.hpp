@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/anatomy.hpp"
 #include "engine/collider.hpp"
 #include "engine/device_guard.hpp"
 #include "engine/frame.hpp"
@@ -39,6 +40,15 @@ struct WorldSummary {
   double yield_moment_Nm = 0.0;
   double warning_moment_Nm = 0.0;
   double device_max_force_N = 0.0;
+  // --- anatomy (issue 4): the danger zones, in the order of Frame::zones ---
+  struct Zone {
+    std::string name;
+    double warning_distance_m = 0.0;
+    double force_limit_N = 0.0;
+    bool never_event = false;
+  };
+  std::vector<Zone> zones;
+  // --- end anatomy ---
 };
 
 class World {
@@ -64,6 +74,8 @@ class World {
   const Frame& last_frame() const { return frame_; }
   const StageTimes& stage_times() const { return times_; }
   const Nucleus* nucleus() const { return nucleus_.get(); }
+  /// The anatomical scene (vertebrae, grids, zones), or null without anatomy (issue 4).
+  const Anatomy* anatomy() const { return anatomy_.get(); }
   const InstrumentGeometry* instrument() const { return instrument_ ? &*instrument_ : nullptr; }
   const std::vector<Collider>& static_colliders() const { return static_colliders_; }
   /// Instrument colliders at the current pose (empty without an instrument).
@@ -76,9 +88,12 @@ class World {
  private:
   void emit(EventKind kind, double value, const char* detail);
   void count_removed();
+  void evaluate_zones_and_emit(const Vec3& tissue_force_N);  // anatomy (issue 4)
 
   WorldConfig config_;
   WorldSummary summary_;
+  // Declared before the rigid world and the nucleus: their colliders point into its grids.
+  std::unique_ptr<Anatomy> anatomy_;
   std::optional<InstrumentGeometry> instrument_;
   std::vector<Collider> static_colliders_;
   std::unique_ptr<RigidWorld> rigid_;
@@ -98,6 +113,11 @@ class World {
   bool warning_active_ = false;
   bool yield_active_ = false;
   bool clamp_active_ = false;
+  // Per-zone state of the last step, for edge-triggered zone events (anatomy, issue 4).
+  std::array<ZoneSample, kMaxZones> zone_samples_{};
+  std::array<std::uint8_t, kMaxZones> zone_warn_active_{};
+  std::array<std::uint8_t, kMaxZones> zone_inside_active_{};
+  std::array<std::uint8_t, kMaxZones> zone_force_active_{};
   Quat last_target_orientation_ = Quat::Identity();
 };
 

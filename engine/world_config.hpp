@@ -7,7 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "engine/danger_zone.hpp"
+#include "engine/signed_distance_grid.hpp"
 #include "engine/types.hpp"
+#include "engine/vertebra_generator.hpp"
 
 namespace acdr {
 
@@ -27,11 +30,36 @@ struct MaterialConfig {
   double bulk_modulus_Pa = 5.0e4;
 };
 
-/// An axis-aligned region filled with particles on a cubic lattice.
+// --- anatomy (issue 4): particle regions of other shapes than a box, for the disc space ---
+enum class BlockShape : std::uint8_t {
+  kBox,               ///< the whole box [min, max]
+  kEllipticCylinder,  ///< points of the box inside an elliptic cylinder along `axis`, less an
+                      ///< optional elliptic hole: a nucleus (no hole) or an annulus ring
+};
+// --- end anatomy ---
+
+/// A region filled with particles on a cubic lattice anchored at `min_m`: the box [min, max],
+/// or (anatomy) the part of it inside an elliptic cylinder or ring. Blocks sharing `min_m`
+/// share their lattice, so a nucleus and the annulus ring around it meet without a seam.
 struct ParticleBlockConfig {
   Vec3 min_m = Vec3::Zero();
   Vec3 max_m = Vec3::Zero();
   int material = 0;  ///< index into NucleusConfig::materials
+  // --- anatomy (issue 4) ---
+  BlockShape shape = BlockShape::kBox;
+  int axis = 1;                          ///< kEllipticCylinder: 0 x, 1 y, 2 z (the spine: y)
+  Vec3 center_m = Vec3::Zero();          ///< ellipse centre (its `axis` coordinate is ignored)
+  /// Outer semi-axes along the two other axes, in increasing axis order (for axis y: x then z).
+  double semi_a_m = 0.0, semi_b_m = 0.0;
+  /// Hole semi-axes (0: none). A ring: the annulus around a nucleus of these semi-axes.
+  double hole_a_m = 0.0, hole_b_m = 0.0;
+  /// Optional box left empty, e.g. the anterior window cut into the annulus for the approach.
+  bool has_cutout = false;
+  Vec3 cutout_min_m = Vec3::Zero(), cutout_max_m = Vec3::Zero();
+
+  /// Whether point p belongs to the region (inside the box, the shape, not the hole or cutout).
+  bool contains(const Vec3& p) const;
+  // --- end anatomy ---
 };
 
 struct NucleusConfig {
@@ -116,6 +144,36 @@ struct RemovalRegionConfig {
   Vec3 max_m = Vec3::Zero();
 };
 
+// --- anatomy (issue 4) ---
+/// The C4-C5 scene: two vertebrae (generated from morphometry, or loaded from OBJ/STL files in
+/// the segment frame, docs/anatomy.md), a signed distance grid of the bone for particle
+/// contact, and the danger zones. Bone is static: Bullet triangle meshes for the instrument,
+/// the grid (collider kSdfGrid) for the particles.
+struct AnatomyConfig {
+  bool enabled = false;
+  /// Morphometry: shapes the procedural vertebrae, places the disc space, the generated zones
+  /// and the default particle-contact grid region (also with loaded meshes).
+  SegmentParams segment;
+  /// Both set: load these meshes (closed surfaces, segment frame) instead of generating.
+  std::string c4_mesh_path;
+  std::string c5_mesh_path;
+  double mesh_unit_m = 1e-3;  ///< metres per mesh file unit (files carry none)
+  /// Particle-contact grid. Without `clip` it covers the disc space and 3-4 mm around it.
+  SdfGridParams sdf;
+  /// Spacing of each vertebra's own grid, used by the endplate zones (m).
+  double zone_sdf_spacing_m = 0.5e-3;
+  bool generate_zones = true;  ///< arteries, roots, cord/PLL, endplates (danger_zone.hpp)
+  C4C5ZoneParams zone_params;
+  /// More zones from the scenario. A kSdfBand zone names its bone in `bone` (0 C4, 1 C5).
+  std::vector<DangerZone> extra_zones;
+  /// Where meshes and grids are cached: "" the user's cache (XDG), "none" no caching.
+  std::string cache_dir;
+};
+
+/// At most this many danger zones per scene (a Frame holds one sample per zone).
+inline constexpr int kMaxZones = 16;
+// --- end anatomy ---
+
 struct WorldConfig {
   Vec3 gravity_m_s2 = Vec3(0.0, 0.0, -kStandardGravity);
   GroundConfig ground;
@@ -127,6 +185,7 @@ struct WorldConfig {
   SolverConfig solver;
   RemovalRegionConfig removal;
   Pose instrument_start;  ///< grip pose at t = 0 (also the device pose until input arrives)
+  AnatomyConfig anatomy;  ///< anatomy (issue 4)
 };
 
 }  // namespace acdr

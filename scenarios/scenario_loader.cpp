@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/anatomy.hpp"
 #include "scenarios/content_hash.hpp"
 #include "scenarios/device_presets.hpp"
 #include "scenarios/json_position_index.hpp"
@@ -124,8 +125,243 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
 double estimated_particles(const ParticleBlockConfig& b, double h) {
   double n = 1.0;
   for (int i = 0; i < 3; ++i) n *= std::floor((b.max_m[i] - b.min_m[i]) / h) + 1.0;
+  // An elliptic region fills at most pi/4 of its box (anatomy, issue 4).
+  if (b.shape == BlockShape::kEllipticCylinder) n *= 0.7854;
   return n;
 }
+
+// --- anatomy (issue 4): block shapes for the disc space ---------------------------------------
+
+/// The optional shape of a nucleus block: an elliptic cylinder (the nucleus) or ring (the
+/// annulus) inside the block's box, and an optional cut-out (the annular window).
+void read_block_shape(ObjectReader& br, ParticleBlockConfig& b) {
+  if (auto s = br.string("shape", Need::kOptional, true, {"box", "elliptic_cylinder"},
+                         "the region's shape")) {
+    b.shape = *s == "box" ? BlockShape::kBox : BlockShape::kEllipticCylinder;
+  }
+  if (auto s = br.string("axis", Need::kOptional, true, {"x", "y", "z"}, "the cylinder's axis")) {
+    b.axis = *s == "x" ? 0 : *s == "y" ? 1 : 2;
+  }
+  const bool elliptic = b.shape == BlockShape::kEllipticCylinder;
+  if (auto c = br.vector3(length("center"), Need::kOptional, kCoordinate)) b.center_m = *c;
+  else b.center_m = 0.5 * (b.min_m + b.max_m);
+  if (auto v = br.numbers("semi_axes_mm", elliptic ? Need::kRequiredHere : Need::kOptional, 2)) {
+    if ((*v)[0] > 0 && (*v)[1] > 0) {
+      b.semi_a_m = (*v)[0] * kMm;
+      b.semi_b_m = (*v)[1] * kMm;
+    } else {
+      br.context().error(br.child("semi_axes_mm"), "semi-axes must be positive (got [" +
+                                                       format_number((*v)[0]) + ", " + format_number((*v)[1]) +
+                                                       "] mm, expected two lengths > 0)");
+    }
+  }
+  if (auto v = br.numbers("hole_semi_axes_mm", Need::kOptional, 2)) {
+    if ((*v)[0] >= 0 && (*v)[1] >= 0 && (*v)[0] * kMm < b.semi_a_m && (*v)[1] * kMm < b.semi_b_m) {
+      b.hole_a_m = (*v)[0] * kMm;
+      b.hole_b_m = (*v)[1] * kMm;
+    } else {
+      br.context().error(br.child("hole_semi_axes_mm"),
+                         "the hole must fit inside the ellipse (got [" + format_number((*v)[0]) + ", " +
+                             format_number((*v)[1]) + "] mm, expected each >= 0 and below semi_axes_mm)");
+    }
+  }
+  auto cmin = br.vector3(length("cutout_min"), Need::kOptional, kCoordinate);
+  auto cmax = br.vector3(length("cutout_max"), cmin ? Need::kRequiredHere : Need::kOptional, kCoordinate);
+  if (cmin && cmax && check_box(br, "cutout_min", "cutout_max", *cmin, *cmax)) {
+    b.has_cutout = true;
+    b.cutout_min_m = *cmin;
+    b.cutout_max_m = *cmax;
+  }
+}
+
+// --- anatomy (issue 4): vertebrae, bone distance grid, danger zones --------------------------
+
+void read_vertebra(ObjectReader& r, VertebraParams& v) {
+  const Range len = Range::positive(50 * kMm);
+  auto set = [&](const char* base, double& field) {
+    if (auto x = r.quantity(length(base), Need::kOptional, len)) field = *x;
+  };
+  set("endplate_width", v.endplate_width_m);
+  set("body_depth", v.body_depth_m);
+  set("body_height", v.body_height_m);
+  set("uncinate_height", v.uncinate_height_m);
+  set("uncinate_thickness", v.uncinate_thickness_m);
+  if (auto x = r.number("uncinate_depth_fraction", Need::kOptional, Range::closed(0.1, 1.0))) {
+    v.uncinate_depth_fraction = *x;
+  }
+  set("pedicle_width", v.pedicle_width_m);
+  set("pedicle_height", v.pedicle_height_m);
+  set("canal_sagittal", v.canal_sagittal_m);
+  set("canal_transverse", v.canal_transverse_m);
+  set("foramen_transversarium_diameter", v.foramen_transversarium_diameter_m);
+  set("uncinate_to_foramen", v.uncinate_to_foramen_m);
+  set("foramen_anterior_offset", v.foramen_anterior_offset_m);
+  set("transverse_process_reach", v.transverse_process_reach_m);
+  set("lamina_thickness", v.lamina_thickness_m);
+  set("spinous_process_length", v.spinous_process_length_m);
+  r.finish();
+}
+
+void read_morphometry(ObjectReader& r, SegmentParams& p) {
+  if (auto x = r.quantity(length("disc_height"), Need::kOptional, Range::positive(20 * kMm))) p.disc_height_m = *x;
+  if (auto x = r.quantity(length("facet_gap"), Need::kOptional, Range::positive(5 * kMm))) p.facet_gap_m = *x;
+  if (auto x = r.quantity(length("mesh_spacing"), Need::kOptional, Range::closed(0.1 * kMm, 2 * kMm))) {
+    p.mesh_spacing_m = *x;
+  }
+  if (auto o = r.object("c4", Need::kOptional)) read_vertebra(*o, p.c4);
+  if (auto o = r.object("c5", Need::kOptional)) read_vertebra(*o, p.c5);
+  // Cross-checks between the sizes (the foramen outside the uncinate process, ...).
+  const std::string problems = validate_segment_params(p);
+  std::istringstream lines(problems);
+  for (std::string line; std::getline(lines, line);) {
+    r.context().error(r.pointer(), "inconsistent morphometry: " + line);
+  }
+  r.finish();
+}
+
+std::string directory_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? "" : path.substr(0, slash + 1);
+}
+
+void read_meshes(ObjectReader& r, AnatomyConfig& a, const std::string& scenario_path) {
+  // Paths relative to the scenario file, like "$schema".
+  auto path = [&](const char* key, std::string& out) {
+    if (auto s = r.string(key, Need::kRequired, true, {}, "a mesh file (.obj or .stl)")) {
+      out = (!s->empty() && (*s)[0] == '/') ? *s : directory_of(scenario_path) + *s;
+    }
+  };
+  path("c4", a.c4_mesh_path);
+  path("c5", a.c5_mesh_path);
+  if (auto u = r.string("units", Need::kRequired, true, {"mm", "m"}, "the unit the files are written in")) {
+    a.mesh_unit_m = *u == "mm" ? 1e-3 : 1.0;
+  }
+  // Open or broken meshes are reported now, with the file's own line or byte.
+  if (!a.c4_mesh_path.empty() && !a.c5_mesh_path.empty()) {
+    std::istringstream lines(check_anatomy_files(a));
+    for (std::string line; std::getline(lines, line);) r.context().error(r.pointer(), line);
+  }
+  r.finish();
+}
+
+void read_sdf(ObjectReader& r, AnatomyConfig& a) {
+  if (auto x = r.quantity(length("spacing"), Need::kOptional, Range::closed(0.05 * kMm, 2 * kMm))) a.sdf.spacing_m = *x;
+  if (auto x = r.quantity(length("margin"), Need::kOptional, Range::closed(0.0, 20 * kMm))) a.sdf.margin_m = *x;
+  if (auto x = r.quantity(length("zone_spacing"), Need::kOptional, Range::closed(0.05 * kMm, 2 * kMm))) {
+    a.zone_sdf_spacing_m = *x;
+  }
+  auto min = r.vector3(length("region_min"), Need::kOptional, kCoordinate);
+  auto max = r.vector3(length("region_max"), min ? Need::kRequiredHere : Need::kOptional, kCoordinate);
+  if (min && max && check_box(r, "region_min", "region_max", *min, *max)) {
+    a.sdf.clip = true;
+    a.sdf.clip_min_m = *min;
+    a.sdf.clip_max_m = *max;
+  }
+  r.finish();
+}
+
+/// Defaults of one kind of generated zone.
+void read_zone_defaults(ObjectReader& r, double* radius, double* warning, double* force, double* depth) {
+  if (radius) {
+    if (auto x = r.quantity(length("radius"), Need::kOptional, Range::positive(20 * kMm))) *radius = *x;
+  }
+  if (auto x = r.quantity(length("warning"), Need::kOptional, Range::closed(0.0, 20 * kMm))) *warning = *x;
+  if (auto x = r.number("force_limit_N", Need::kOptional, Range::positive(100.0), "N")) *force = *x;
+  if (depth) {
+    if (auto x = r.quantity(length("depth"), Need::kOptional, Range::positive(20 * kMm))) *depth = *x;
+  }
+  r.finish();
+}
+
+void read_zone(ObjectReader& r, DangerZone& z) {
+  if (auto s = r.string("name", Need::kRequired, true, {}, "the zone's name, shown with its events")) z.name = *s;
+  std::string shape = "sphere";
+  if (auto s = r.string("shape", Need::kRequired, true, {"sphere", "capsule", "box", "bone_band"},
+                        "the zone's shape")) {
+    shape = *s;
+  }
+  z.shape = shape == "sphere" ? ZoneShape::kSphere : shape == "capsule" ? ZoneShape::kCapsule
+          : shape == "box"    ? ZoneShape::kBox    : ZoneShape::kSdfBand;
+  const bool point = shape == "sphere" || shape == "capsule" || shape == "box";
+  // Which keys a zone needs depends on its shape (kRequiredHere: required for this item only).
+  if (auto a = r.vector3(length("a"), point ? Need::kRequiredHere : Need::kOptional, kCoordinate)) z.a_m = *a;
+  if (auto b = r.vector3(length("b"), shape == "capsule" ? Need::kRequiredHere : Need::kOptional, kCoordinate)) z.b_m = *b;
+  if (auto x = r.quantity(length("radius"), shape == "sphere" || shape == "capsule" ? Need::kRequiredHere : Need::kOptional,
+                          Range::positive(50 * kMm))) {
+    z.radius_m = *x;
+  }
+  if (auto e = r.vector3(length("half_extents"), shape == "box" ? Need::kRequiredHere : Need::kOptional,
+                         Range::positive(100 * kMm))) {
+    z.half_extents_m = *e;
+  }
+  if (auto q = r.numbers("orientation_wxyz", Need::kOptional, 4)) {
+    const Quat quat((*q)[0], (*q)[1], (*q)[2], (*q)[3]);
+    if (std::fabs(quat.norm() - 1.0) > 1e-3) {
+      r.context().error(r.child("orientation_wxyz"), "not a unit quaternion (got norm " + format_number(quat.norm()) +
+                                                         ", expected 1 within 0.001)");
+    } else {
+      z.orientation = quat.normalized();
+    }
+  }
+  if (auto s = r.string("bone", shape == "bone_band" ? Need::kRequiredHere : Need::kOptional, true, {"c4", "c5"},
+                        "the vertebra whose surface the band follows")) {
+    z.bone = *s == "c4" ? 0 : 1;
+  }
+  if (auto x = r.quantity(length("band"), Need::kOptional, Range::closed(0.0, 20 * kMm))) z.band_m = *x;
+  auto rmin = r.vector3(length("region_min"), shape == "bone_band" ? Need::kRequiredHere : Need::kOptional, kCoordinate);
+  auto rmax = r.vector3(length("region_max"), shape == "bone_band" ? Need::kRequiredHere : Need::kOptional, kCoordinate);
+  if (rmin && rmax && check_box(r, "region_min", "region_max", *rmin, *rmax)) {
+    z.region_min_m = *rmin;
+    z.region_max_m = *rmax;
+  }
+  if (auto x = r.quantity(length("warning"), Need::kRequired, Range::closed(0.0, 20 * kMm))) z.warning_distance_m = *x;
+  if (auto x = r.number("force_limit_N", Need::kRequired, Range::positive(100.0), "N")) z.force_limit_N = *x;
+  if (auto b = r.boolean("never_event", Need::kRequired)) z.never_event = *b;
+  r.finish();
+}
+
+void read_zones(ObjectReader& r, AnatomyConfig& a) {
+  if (auto b = r.boolean("generate", Need::kOptional)) a.generate_zones = *b;
+  C4C5ZoneParams& zp = a.zone_params;
+  if (auto o = r.object("vertebral_artery", Need::kOptional)) {
+    read_zone_defaults(*o, &zp.artery_radius_m, &zp.artery_warning_m, &zp.artery_force_limit_N, nullptr);
+  }
+  if (auto o = r.object("nerve_root", Need::kOptional)) {
+    read_zone_defaults(*o, &zp.root_radius_m, &zp.root_warning_m, &zp.root_force_limit_N, nullptr);
+  }
+  if (auto o = r.object("spinal_cord_pll", Need::kOptional)) {
+    read_zone_defaults(*o, nullptr, &zp.cord_warning_m, &zp.cord_force_limit_N, nullptr);
+  }
+  if (auto o = r.object("endplates", Need::kOptional)) {
+    read_zone_defaults(*o, nullptr, &zp.endplate_warning_m, &zp.endplate_force_limit_N, &zp.endplate_depth_m);
+  }
+  for (ObjectReader& zr : r.objects("extra", Need::kOptional, 0)) {
+    DangerZone z;
+    read_zone(zr, z);
+    a.extra_zones.push_back(z);
+  }
+  const int total = (a.generate_zones ? 7 : 0) + static_cast<int>(a.extra_zones.size());
+  if (total > kMaxZones) {
+    r.context().error(r.child("extra"), "too many zones (got " + std::to_string(total) + " with the " +
+                                            (a.generate_zones ? "7 generated" : "0 generated") +
+                                            ", expected at most " + std::to_string(kMaxZones) + ")");
+  }
+  r.finish();
+}
+
+void read_anatomy(ObjectReader& r, AnatomyConfig& a, const std::string& scenario_path) {
+  a.enabled = true;
+  if (auto o = r.object("morphometry", Need::kOptional)) read_morphometry(*o, a.segment);
+  if (auto o = r.object("meshes", Need::kOptional)) read_meshes(*o, a, scenario_path);
+  if (auto o = r.object("sdf", Need::kOptional)) read_sdf(*o, a);
+  if (auto o = r.object("zones", Need::kOptional)) read_zones(*o, a);
+  if (auto s = r.string("cache_dir", Need::kOptional, true, {},
+                        "a directory for cached meshes and grids, or \"none\"")) {
+    a.cache_dir = *s;
+  }
+  r.finish();
+}
+// --- end anatomy ---
 
 void read_nucleus(ObjectReader& r, NucleusConfig& n) {
   n.enabled = true;
@@ -158,6 +394,7 @@ void read_nucleus(ObjectReader& r, NucleusConfig& n) {
       b.min_m = *min;
       b.max_m = *max;
     }
+    read_block_shape(br, b);  // anatomy (issue 4)
     // A material by name (preferred) or by index into `materials`.
     const json* mat = br.raw("material", Need::kOptional, "integer|string",
                              "a material name or index");
@@ -364,7 +601,7 @@ void read_removal(ObjectReader& r, RemovalRegionConfig& reg, const NucleusConfig
   r.finish();
 }
 
-void read_world(ObjectReader& r, WorldConfig& w) {
+void read_world(ObjectReader& r, WorldConfig& w, const std::string& scenario_path) {
   if (auto g = r.vector3(plain("gravity_m_s2", "m/s²"), Need::kOptional, Range::closed(-100.0, 100.0))) {
     w.gravity_m_s2 = *g;
   }
@@ -376,6 +613,7 @@ void read_world(ObjectReader& r, WorldConfig& w) {
   if (auto o = r.object("coupling", Need::kOptional)) read_coupling(*o, w.coupling);
   if (auto o = r.object("device", Need::kOptional)) read_device(*o, w.device);
   if (auto o = r.object("solver", Need::kOptional)) read_solver(*o, w.solver);
+  if (auto o = r.object("anatomy", Need::kOptional)) read_anatomy(*o, w.anatomy, scenario_path);  // issue 4
   // Removal is what the nucleus is scored by, so a scene with a nucleus must say where it is.
   const bool nucleus_declared = r.has("nucleus");
   if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequiredHere : Need::kOptional)) {
@@ -457,7 +695,7 @@ void read_document(ObjectReader& r, ScenarioModel& m) {
   if (auto v = r.number("time_limit_s", Need::kOptional, Range::closed(0.0, 86400.0), "s")) {
     m.time_limit_s = *v;
   }
-  if (auto o = r.object("world", Need::kRequired)) read_world(*o, m.world);
+  if (auto o = r.object("world", Need::kRequired)) read_world(*o, m.world, m.path);
   if (auto o = r.object("rubric", Need::kRequired)) read_rubric(*o, m.rubric);
   r.finish();
 }

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "ui/commands/bench_command.hpp"
+#include "ui/commands/dashboard_command.hpp"
 #include "ui/commands/device_sim_command.hpp"
 #include "ui/commands/make_trajectory_command.hpp"
 #include "ui/commands/render_command.hpp"
@@ -45,6 +46,8 @@ int main(int argc, char** argv) {
                       "udp: seconds to wait for the bridge, and without packets before the "
                       "attempt ends as disconnected (default 5)")
       ->check(CLI::PositiveNumber);
+  run_cmd->add_flag("--realtime", run.realtime,
+                    "Ask for real-time priority for the haptic loop (needs the privilege)");
   run_cmd->add_option("--screenshot", run.screenshot,
                       "Window: save a picture of the trainee view (PNG)");
   run_cmd->add_option("--screenshot-at", run.screenshot_at_s,
@@ -54,6 +57,24 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--close-after", run.close_after_s,
                       "Window: close the score screen after this many seconds");
   run_cmd->callback([&] { code = acdr::run_run(run, std::cout, std::cerr); });
+
+  // acdr dashboard
+  acdr::DashboardOptions dash;
+  auto* dash_cmd = app.add_subcommand("dashboard", "The instructor dashboard");
+  dash_cmd->add_option("--db", dash.db, "Database file (default: $ACDR_DB or the data directory)");
+  dash_cmd->add_option("--screenshot", dash.screenshot,
+                       "Render one frame offscreen to this PNG and exit");
+  dash_cmd->add_option("--export-csv", dash.export_csv,
+                       "Write the selected view's CSV to this file and exit");
+  dash_cmd->add_option("--width", dash.width, "Width in pixels")->check(CLI::Range(320, 8192));
+  dash_cmd->add_option("--height", dash.height, "Height in pixels")->check(CLI::Range(240, 8192));
+  dash_cmd->add_option("--trainee", dash.trainee, "Select this trainee");
+  dash_cmd->add_option("--module", dash.module, "Learning curve of this module");
+  dash_cmd->add_option("--attempt", dash.attempt, "Open this attempt (0: none)");
+  dash_cmd->add_option("--replay-t", dash.replay_t_s, "Replay cursor time (s)");
+  dash_cmd->add_option("--export-dir", dash.export_dir,
+                       "Where the window's Export CSV button writes (default .)");
+  dash_cmd->callback([&] { code = acdr::run_dashboard(dash, std::cout, std::cerr); });
 
   // acdr device-sim
   acdr::DeviceSimOptions sim;
@@ -80,6 +101,8 @@ int main(int argc, char** argv) {
                       "Fault: poses jump by --jump-mm along x from this time (s) for 20 ms");
   double jump_mm = 50.0;
   sim_cmd->add_option("--jump-mm", jump_mm, "Size of that jump (mm, default 50)");
+  sim_cmd->add_flag("--realtime", sim.bridge.realtime_priority,
+                    "Ask for real-time priority for the send loop (needs the privilege)");
   sim_cmd->add_flag("--json", sim.json, "Print the summary as JSON");
   sim_cmd->callback([&] {
     sim.bridge.jump_m = jump_mm * 1e-3;

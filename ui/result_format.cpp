@@ -29,6 +29,7 @@ nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
   j["overruns"] = h.loop.overruns;
   j["resyncs"] = h.loop.resyncs;
   j["ticks"] = h.loop.ticks;
+  j["realtime_priority"] = h.loop.realtime;
   j["packets_lost"] = h.has_link ? h.link.packets_lost : 0;
   j["force_clamped_events"] = clamped;
   j["input_lost_events"] = lost;

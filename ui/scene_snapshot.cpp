@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include <cmath>
+
 #include "ui/mesh_primitives.hpp"
 #include "ui/render_camera.hpp"
 
@@ -38,6 +40,8 @@ void add_collider(RenderScene& scene, const Collider& c, const Eigen::Vector4f& 
                             static_cast<float>(c.thickness_m), rgba);
       break;
     }
+    case ColliderKind::kSdfGrid:
+      return;  // bone: drawn from its triangle meshes (add_anatomy)
   }
   mesh.specular = specular;
   scene.meshes.push_back(std::move(mesh));
@@ -67,6 +71,59 @@ RenderCamera frame_work_area(const World& world, const Frame& frame, const Rende
   if (box.isEmpty()) return frame_scene(scene, aspect);
   return frame_bounds(box.min().cast<float>(), box.max().cast<float>(), aspect);
 }
+
+// --- anatomy (issue 4) ---
+/// The vertebrae as opaque bone and the danger zones as translucent solids.
+void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
+                 const SceneStyle& style) {
+  for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5}) {
+    const TriangleMesh& bone = anatomy.vertebra(level);
+    RenderMesh mesh;
+    mesh.vertices.reserve(bone.vertices.size());
+    for (const Vec3& v : bone.vertices) mesh.vertices.push_back(v.cast<float>());
+    mesh.indices.reserve(3 * bone.triangles.size());
+    for (const auto& t : bone.triangles) mesh.indices.insert(mesh.indices.end(), t.begin(), t.end());
+    mesh.rgba = style.bone;
+    mesh.specular = 0.15f;
+    mesh.geometry_id = bone.content_hash() | 1u;  // static: uploaded once
+    scene.meshes.push_back(std::move(mesh));
+  }
+  const auto& zones = anatomy.zones();
+  for (std::size_t zi = 0; zi < zones.size(); ++zi) {
+    const DangerZone& z = zones[zi];
+    const std::string& n = z.name;
+    Eigen::Vector4f rgba = n.find("artery") != std::string::npos ? style.artery
+                           : n.find("root") != std::string::npos ? style.nerve
+                           : n.find("cord") != std::string::npos ? style.cord
+                                                                 : style.zone;
+    // Issue 7: a zone turns its warning colour as the instrument comes within its warning
+    // distance, and the danger colour (more opaque) once the instrument is inside it.
+    if (static_cast<int>(zi) < frame.zone_count && zi < frame.zones.size()) {
+      if (frame.zones[zi].inside)
+        rgba = style.zone_inside;
+      else if (frame.zones[zi].warning)
+        rgba = style.zone_warning;
+    }
+    RenderMesh mesh;
+    switch (z.shape) {
+      case ZoneShape::kSphere:
+        mesh = make_sphere(z.a_m.cast<float>(), static_cast<float>(z.radius_m), rgba);
+        break;
+      case ZoneShape::kCapsule:
+        mesh = make_capsule(z.a_m.cast<float>(), z.b_m.cast<float>(), static_cast<float>(z.radius_m), rgba);
+        break;
+      case ZoneShape::kBox:
+        mesh = make_oriented_box(z.half_extents_m.cast<float>(),
+                                 to_affine(Pose{z.a_m, z.orientation}), rgba);
+        break;
+      case ZoneShape::kSdfBand:
+        continue;  // endplates: the bone itself shows them
+    }
+    mesh.specular = 0.1f;
+    scene.meshes.push_back(std::move(mesh));
+  }
+}
+// --- end anatomy ---
 
 }  // namespace
 
@@ -120,10 +177,23 @@ RenderScene snapshot_state(const World& world, const WorldState& state, float as
                                                                      : style.annulus);
     }
   }
+  if (const Anatomy* anatomy = world.anatomy())
+    add_anatomy(scene, *anatomy, state.frame, style);  // issue 4
   // Translucent meshes last (the renderer sorts them back to front).
   std::stable_partition(scene.meshes.begin(), scene.meshes.end(),
                         [](const RenderMesh& m) { return m.rgba.w() >= 1.0f; });
   scene.camera = frame_work_area(world, state.frame, scene, aspect);
+  if (const Anatomy* anatomy = world.anatomy()) {
+    // --- anatomy (issue 4): the surgeon's view, from anterior (+z, up), a little to the left
+    // and caudal, framing the disc space and the foramina; the spine runs up the image.
+    const SegmentLandmarks& l = anatomy->landmarks();
+    const float reach = static_cast<float>(std::abs(l.foramen_transversarium_m[0].x()) + 6e-3);
+    const Eigen::Vector3f lo(-reach, -14e-3f, static_cast<float>(l.body_back_z_m) - 6e-3f);
+    const Eigen::Vector3f hi(reach, 14e-3f, static_cast<float>(l.body_front_z_m) + 4e-3f);
+    scene.camera = frame_bounds(lo, hi, aspect, Eigen::Vector3f(0.4f, -0.2f, 1.0f));
+    scene.camera.up = Eigen::Vector3f(0.0f, 1.0f, 0.0f);
+    scene.camera.far_m = std::max(scene.camera.far_m, 0.5f);
+  }
   return scene;
 }
 

@@ -29,7 +29,6 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 
 // An alert for a recent event, or none (level kInfo with empty text).
 HudAlert alert_for_event(const Event& e) {
-  const std::string kind = event_kind_name(e.kind);
   switch (e.kind) {
     case EventKind::kOverloadYield:
       return {AlertLevel::kDanger, "Instrument overloaded: the shaft bent (" +
@@ -45,16 +44,16 @@ HudAlert alert_for_event(const Event& e) {
       return {AlertLevel::kDanger, "Device silent: force switched off"};
     case EventKind::kNumerical:
       return {AlertLevel::kDanger, "Simulation failed (" + e.detail + ")"};
+    case EventKind::kNeverEvent:
+      return {AlertLevel::kDanger, "NEVER-EVENT: entered " + e.detail + " (the attempt fails)"};
+    case EventKind::kZoneEntry:
+      return {AlertLevel::kDanger, "Danger zone entered: " + e.detail};
+    case EventKind::kZoneForce:
+      return {AlertLevel::kWarning, "Force near " + e.detail + " above its limit (" +
+                                        format("%.2f N", e.value) + ")"};
+    case EventKind::kZoneWarning:
+      return {AlertLevel::kWarning, "Close to " + e.detail};
     default: break;
-  }
-  // Zone events (their kinds carry "zone" in the name): entries are dangers, the rest warnings.
-  if (kind.find("zone") != std::string::npos) {
-    const bool entry = kind.find("entry") != std::string::npos ||
-                       kind.find("breach") != std::string::npos ||
-                       kind.find("never") != std::string::npos;
-    std::string text = entry ? "Danger zone entered" : "Close to a danger zone";
-    if (!e.detail.empty()) text += ": " + e.detail;
-    return {entry ? AlertLevel::kDanger : AlertLevel::kWarning, text};
   }
   return {};
 }
@@ -94,6 +93,18 @@ HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summa
          "Shaft overload: " +
              format("%.0f %% of yield", 100.0 * f.bending_moment_Nm / summary.yield_moment_Nm) +
              ", ease off"});
+  // Zone proximity now: inside a zone is a danger, within its warning distance a warning.
+  for (int z = 0; z < f.zone_count && z < static_cast<int>(f.zones.size()); ++z) {
+    const std::string name = static_cast<std::size_t>(z) < summary.zones.size()
+                                 ? summary.zones[static_cast<std::size_t>(z)].name
+                                 : "zone " + std::to_string(z);
+    if (f.zones[z].inside)
+      hud.alerts.push_back({AlertLevel::kDanger, "Inside " + name + ": withdraw"});
+    else if (f.zones[z].warning)
+      hud.alerts.push_back(
+          {AlertLevel::kWarning,
+           "Close to " + name + ": " + format("%.1f mm", 1e3 * f.zones[z].distance_m)});
+  }
   if (!f.input_valid && !view.sample.stale)
     hud.alerts.push_back({AlertLevel::kWarning, "Device pose rejected: holding the instrument"});
   // Then recent events, newest first, one alert per distinct text.

@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
+
 #include "scenarios/content_hash.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"
 
@@ -217,6 +220,86 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(w.removal.max_m, d.world.removal.max_m);
   EXPECT_NE(w.instrument_start.position, d.world.instrument_start.position);
   EXPECT_FALSE(w.instrument_start.orientation.isApprox(d.world.instrument_start.orientation));
+  // --- anatomy (issue 4) ---
+  const ParticleBlockConfig& shaped = w.nucleus.blocks[1];
+  EXPECT_NE(shaped.shape, bd.shape);
+  EXPECT_NE(shaped.axis, bd.axis);
+  EXPECT_NE(shaped.center_m, bd.center_m);
+  EXPECT_NE(shaped.semi_a_m, bd.semi_a_m);
+  EXPECT_NE(shaped.semi_b_m, bd.semi_b_m);
+  EXPECT_NE(shaped.hole_a_m, bd.hole_a_m);
+  EXPECT_NE(shaped.hole_b_m, bd.hole_b_m);
+  EXPECT_NE(shaped.has_cutout, bd.has_cutout);
+  EXPECT_NE(shaped.cutout_min_m, bd.cutout_min_m);
+  EXPECT_NE(shaped.cutout_max_m, bd.cutout_max_m);
+  const AnatomyConfig& an = w.anatomy;
+  const AnatomyConfig ad;
+  EXPECT_NE(an.enabled, ad.enabled);
+  EXPECT_NE(an.segment.disc_height_m, ad.segment.disc_height_m);
+  EXPECT_NE(an.segment.facet_gap_m, ad.segment.facet_gap_m);
+  EXPECT_NE(an.segment.mesh_spacing_m, ad.segment.mesh_spacing_m);
+  const VertebraParams& v4 = an.segment.c4;
+  const VertebraParams vd;
+  EXPECT_NE(v4.endplate_width_m, vd.endplate_width_m);
+  EXPECT_NE(v4.body_depth_m, vd.body_depth_m);
+  EXPECT_NE(v4.body_height_m, vd.body_height_m);
+  EXPECT_NE(v4.uncinate_height_m, vd.uncinate_height_m);
+  EXPECT_NE(v4.uncinate_thickness_m, vd.uncinate_thickness_m);
+  EXPECT_NE(v4.uncinate_depth_fraction, vd.uncinate_depth_fraction);
+  EXPECT_NE(v4.pedicle_width_m, vd.pedicle_width_m);
+  EXPECT_NE(v4.pedicle_height_m, vd.pedicle_height_m);
+  EXPECT_NE(v4.canal_sagittal_m, vd.canal_sagittal_m);
+  EXPECT_NE(v4.canal_transverse_m, vd.canal_transverse_m);
+  EXPECT_NE(v4.foramen_transversarium_diameter_m, vd.foramen_transversarium_diameter_m);
+  EXPECT_NE(v4.uncinate_to_foramen_m, vd.uncinate_to_foramen_m);
+  EXPECT_NE(v4.foramen_anterior_offset_m, vd.foramen_anterior_offset_m);
+  EXPECT_NE(v4.transverse_process_reach_m, vd.transverse_process_reach_m);
+  EXPECT_NE(v4.lamina_thickness_m, vd.lamina_thickness_m);
+  EXPECT_NE(v4.spinous_process_length_m, vd.spinous_process_length_m);
+  EXPECT_NE(an.segment.c5.endplate_width_m, vd.endplate_width_m);
+  EXPECT_NE(an.c4_mesh_path, ad.c4_mesh_path);
+  EXPECT_NE(an.c5_mesh_path, ad.c5_mesh_path);
+  EXPECT_NE(an.sdf.spacing_m, ad.sdf.spacing_m);
+  EXPECT_NE(an.sdf.margin_m, ad.sdf.margin_m);
+  EXPECT_NE(an.sdf.clip, ad.sdf.clip);
+  EXPECT_NE(an.sdf.clip_min_m, ad.sdf.clip_min_m);
+  EXPECT_NE(an.sdf.clip_max_m, ad.sdf.clip_max_m);
+  EXPECT_NE(an.zone_sdf_spacing_m, ad.zone_sdf_spacing_m);
+  EXPECT_NE(an.generate_zones, ad.generate_zones);
+  const C4C5ZoneParams& zp = an.zone_params;
+  const C4C5ZoneParams zd;
+  EXPECT_NE(zp.artery_radius_m, zd.artery_radius_m);
+  EXPECT_NE(zp.artery_warning_m, zd.artery_warning_m);
+  EXPECT_NE(zp.artery_force_limit_N, zd.artery_force_limit_N);
+  EXPECT_NE(zp.root_radius_m, zd.root_radius_m);
+  EXPECT_NE(zp.root_warning_m, zd.root_warning_m);
+  EXPECT_NE(zp.root_force_limit_N, zd.root_force_limit_N);
+  EXPECT_NE(zp.cord_warning_m, zd.cord_warning_m);
+  EXPECT_NE(zp.cord_force_limit_N, zd.cord_force_limit_N);
+  EXPECT_NE(zp.endplate_warning_m, zd.endplate_warning_m);
+  EXPECT_NE(zp.endplate_force_limit_N, zd.endplate_force_limit_N);
+  EXPECT_NE(zp.endplate_depth_m, zd.endplate_depth_m);
+  ASSERT_EQ(an.extra_zones.size(), 3u);
+  const DangerZone& cap = an.extra_zones[0];
+  const DangerZone& box = an.extra_zones[1];
+  const DangerZone& band = an.extra_zones[2];
+  const DangerZone zdef;
+  EXPECT_NE(cap.name, zdef.name);
+  EXPECT_NE(cap.shape, zdef.shape);
+  EXPECT_NE(cap.a_m, zdef.a_m);
+  EXPECT_NE(cap.b_m, zdef.b_m);
+  EXPECT_NE(cap.radius_m, zdef.radius_m);
+  EXPECT_NE(cap.never_event, zdef.never_event);
+  EXPECT_NE(box.half_extents_m, zdef.half_extents_m);
+  EXPECT_FALSE(box.orientation.isApprox(zdef.orientation));
+  EXPECT_NE(band.bone, zdef.bone);
+  EXPECT_NE(band.band_m, zdef.band_m);
+  EXPECT_NE(band.region_min_m, zdef.region_min_m);
+  EXPECT_NE(band.region_max_m, zdef.region_max_m);
+  EXPECT_NE(band.warning_distance_m, zdef.warning_distance_m);
+  EXPECT_NE(band.force_limit_N, zdef.force_limit_N);
+  EXPECT_NE(an.cache_dir, ad.cache_dir);
+  // --- end anatomy ---
   const Rubric& rd = d.rubric;
   ASSERT_EQ(m.rubric.terms.size(), 2u);
   const RubricTerm td;
@@ -494,3 +577,72 @@ TEST(ScenarioLoaderErrors, NotAnObjectAndMissingFile) {
 
 }  // namespace
 }  // namespace acdr
+
+// --- anatomy (issue 4) ---
+
+namespace acdr {
+namespace {
+
+std::string healthy_module_text() {
+  return test::read_text(test::source_path("scenarios/modules/02_c4c5_healthy.json"));
+}
+
+TEST(ScenarioLoaderAnatomy, BundledModulesLoadWithAnatomy) {
+  for (const char* m : {"02_c4c5_healthy.json", "03_c4c5_degenerated.json", "04_full_discectomy.json"}) {
+    const LoadResult r = load_scenario_file(test::source_path(std::string("scenarios/modules/") + m));
+    ASSERT_TRUE(r.ok()) << to_string(r.errors);
+    const WorldConfig& w = r.model->world;
+    EXPECT_TRUE(w.anatomy.enabled) << m;
+    EXPECT_TRUE(w.anatomy.generate_zones) << m;
+    ASSERT_EQ(w.nucleus.blocks.size(), 2u) << m;
+    EXPECT_EQ(w.nucleus.blocks[0].shape, BlockShape::kEllipticCylinder);
+    EXPECT_TRUE(w.nucleus.blocks[1].has_cutout);
+    EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
+  }
+}
+
+TEST(ScenarioLoaderAnatomy, BrokenMeshFileIsReportedWithItsPlace) {
+  const std::string dir = test::source_path("tests/scenarios/data/");
+  // A mesh file that does not parse: its own file and line appear in the error.
+  const std::string bad = dir + "bone_broken.obj";
+  {
+    std::ofstream out(bad);
+    out << "v 0 0 0\nv 1 0 0\nv 0 nope 0\nf 1 2 3\n";
+  }
+  const std::string text = replace_once(
+      healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9 },)",
+      R"("morphometry": { "disc_height_mm": 5.9 }, "meshes": { "c4": "bone_broken.obj", "c5": "bone_c5.stl", "units": "mm" },)");
+  const LoadResult r = load_scenario_text(text, dir + "m.json");
+  std::remove(bad.c_str());
+  ASSERT_FALSE(r.ok());
+  const std::string all = to_string(r.errors);
+  EXPECT_NE(all.find("/world/anatomy/meshes"), std::string::npos) << all;
+  EXPECT_NE(all.find("bone_broken.obj:3: vertex coordinate 2 is not a finite number (got 'nope')"),
+            std::string::npos) << all;
+}
+
+TEST(ScenarioLoaderAnatomy, InconsistentMorphometryAndZones) {
+  std::string text = replace_once(healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9 },)",
+                                  R"("morphometry": { "disc_height_mm": 5.9, "c5": { "uncinate_to_foramen_mm": 1.0 } },
+      "zones": { "extra": [ { "name": "x", "shape": "capsule", "a_mm": [0, 0, 0], "radius_mm": 1,
+                              "warning_mm": 1, "force_limit_N": 1, "never_event": true } ] },)");
+  const LoadResult r = load_scenario_text(text, "m.json");
+  ASSERT_FALSE(r.ok());
+  const std::string all = to_string(r.errors);
+  EXPECT_NE(all.find("inconsistent morphometry: c5.uncinate_to_foramen: got 1 mm"), std::string::npos) << all;
+  EXPECT_NE(all.find("/world/anatomy/zones/extra/0"), std::string::npos) << all;  // b missing
+  EXPECT_NE(all.find("b_mm"), std::string::npos) << all;
+}
+
+TEST(ScenarioLoaderAnatomy, ShapedBlocksAreChecked) {
+  const std::string text = replace_once(healthy_module_text(), R"("hole_semi_axes_mm": [3.5, 3.0],)",
+                                        R"("hole_semi_axes_mm": [6.5, 3.0],)");
+  const LoadResult r = load_scenario_text(text, "m.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(to_string(r.errors).find("the hole must fit inside the ellipse"), std::string::npos)
+      << to_string(r.errors);
+}
+
+}  // namespace
+}  // namespace acdr
+// --- end anatomy ---

@@ -97,7 +97,8 @@ class ScenarioSchema : public ::testing::Test {
     walk(schema_, "", schema_keys_);
     // The complete fixture and the box module between them reach every read of the loader.
     for (const char* file : {"tests/scenarios/data/complete.json", "scenarios/modules/01_box_warmup.json"}) {
-      const LoadResult r = load_scenario_text(test::read_text(test::source_path(file)), file, &registry_);
+      const LoadResult r = load_scenario_text(test::read_text(test::source_path(file)),
+                                              test::source_path(file), &registry_);
       ASSERT_TRUE(r.ok()) << to_string(r.errors);
     }
   }

@@ -41,8 +41,14 @@ bool store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run, con
   outcome.metrics = run.metrics;
   outcome.score = run.score;
   outcome.duration_s = world.time_s();
-  for (const Event& e : run.record.events)
-    outcome.events.push_back(EventRecord{e.t_s, event_kind_name(e.kind), "", e.value, e.detail});
+  const auto& zones = run.record.summary.zones;
+  for (const Event& e : run.record.events) {
+    // Zone events carry the zone's index; the record keeps its name.
+    const std::string zone = e.zone >= 0 && static_cast<std::size_t>(e.zone) < zones.size()
+                                 ? zones[static_cast<std::size_t>(e.zone)].name
+                                 : std::string();
+    outcome.events.push_back(EventRecord{e.t_s, event_kind_name(e.kind), zone, e.value, e.detail});
+  }
   RecordingData recording;
   recording.format = kRecordingFormat;
   recording.frame_count = static_cast<std::int64_t>(run.record.frames.size());
@@ -201,6 +207,8 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     view.screenshot_at_s = options.screenshot_at_s;
     view.score_screenshot = options.score_screenshot;
     view.close_after_s = options.close_after_s;
+    view.input_label = options.input;
+    view.loop.realtime_priority = options.realtime;
     std::string store_error;
     TraineeViewOutcome outcome = run_trainee_view(
         scenario, world, device.get(), view, [&](const AttemptRun& finished) -> std::string {
@@ -225,7 +233,9 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   } else {
     if (udp) {
       // A live device: step on the haptic thread at the scenario's rate, paced by the clock.
-      LiveAttempt attempt(scenario, world, *device);
+      HapticLoopOptions loop;
+      loop.realtime_priority = options.realtime;
+      LiveAttempt attempt(scenario, world, *device, loop);
       attempt.start();
       run = attempt.wait();
       haptics.loop = attempt.haptic_stats();

@@ -33,6 +33,8 @@ struct RunOptions {
   double screenshot_at_s = -1.0;
   std::string score_screenshot;
   double close_after_s = -1.0;
+  /// Run the haptic loop with real-time priority when the OS grants it (haptics.realtime).
+  bool realtime = false;
 };
 
 /// Exit codes: 0 attempt completed (passed or not), 1 the simulation failed numerically,

@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""Grip waypoints for the C4-C5 demonstration attempts, from cup-centre targets.
+
+An author thinks of where the curette's cup should be; the device drives the grip, 81.9 mm
+up the shaft (80 mm shaft + 1.9 mm cup radius, scenarios/modules/0[2-4]_*.json). This tool
+turns rows of
+
+    t_s, cup_x_mm, cup_y_mm, cup_z_mm, roll_deg, pitch_deg, yaw_deg
+
+(segment frame, docs/anatomy.md: x left, y cranial, z anterior = up) into the waypoint CSV of
+`acdr make-trajectory` (docs/trajectory-format.md): grip = cup - R(roll, pitch, yaw) (0, 0, -L),
+R applied yaw, then pitch, then roll, as engine/waypoint_path.cpp does. Where the orientation
+changes between two rows, intermediate waypoints every 10 degrees keep the cup where the rows
+put it (the grip is interpolated linearly, so one long rotation would swing the cup through the
+anatomy). Lines starting with '#' are copied as comments.
+
+    python3 c4c5_waypoints.py expert_c4c5.cup.csv > c4c5_expert.waypoints.csv
+    build/acdr make-trajectory c4c5_expert.waypoints.csv c4c5_expert.csv
+"""
+import math
+import sys
+
+L_MM = 81.9
+
+
+def rotation(roll, pitch, yaw):
+    r, p, y = (math.radians(a) for a in (roll, pitch, yaw))
+    rx = [[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]]
+    ry = [[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]]
+    rz = [[math.cos(y), -math.sin(y), 0], [math.sin(y), math.cos(y), 0], [0, 0, 1]]
+    mul = lambda a, b: [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+    return mul(rz, mul(ry, rx))
+
+
+def grip_row(t, cup, rpy):
+    rot = rotation(*rpy)
+    grip = [cup[i] + L_MM * rot[i][2] for i in range(3)]  # cup - R (0, 0, -L)
+    return "%.3f,%.3f,%.3f,%.3f,%.2f,%.2f,%.2f" % (t, grip[0], grip[1], grip[2], *rpy)
+
+
+def main(path):
+    rows, out = [], ["t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg"]
+    for line in open(path):
+        line = line.strip()
+        if not line:
+            continue
+        if line.startswith("#"):
+            out.append(line)
+            continue
+        t, x, y, z, ro, pi, ya = (float(v) for v in line.split(","))
+        if rows:
+            t0, cup0, rpy0 = rows[-1]
+            turn = max(abs(a - b) for a, b in zip(rpy0, (ro, pi, ya)))
+            steps = int(math.ceil(turn / 10.0))
+            for k in range(1, steps):
+                f = k / steps
+                cup = [c0 + f * (c1 - c0) for c0, c1 in zip(cup0, (x, y, z))]
+                rpy = [a0 + f * (a1 - a0) for a0, a1 in zip(rpy0, (ro, pi, ya))]
+                out.append(grip_row(t0 + f * (t - t0), cup, rpy))
+        rows.append((t, (x, y, z), (ro, pi, ya)))
+        out.append(grip_row(t, (x, y, z), (ro, pi, ya)))
+    print("\n".join(out))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

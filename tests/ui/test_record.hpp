@@ -1,0 +1,43 @@
+// A training record with a few real attempts for the dashboard tests, made by `acdr run` on
+// the test box without material (fast): trainee t-ann passes, fails (a rough scoop with
+// overload warnings), then passes twice (mastered); t-ben passes once and fails once.
+// Shared by the dashboard tests, never copied.
+#pragma once
+
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "ui/commands/run_command.hpp"
+
+namespace acdr::test {
+
+inline const std::string kUiData = std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/";
+
+/// Runs one replay attempt of the empty test box into `db`; returns false on failure.
+inline bool add_replay_attempt(const std::string& db, const std::string& trainee,
+                               const std::string& trajectory) {
+  RunOptions o;
+  o.scenario = kUiData + "empty_box.json";
+  o.input = "replay:" + kUiData + trajectory;
+  o.trainee = trainee;
+  o.db = db;
+  o.headless = true;
+  o.json = true;
+  std::ostringstream out, err;
+  const int code = run_run(o, out, err);
+  EXPECT_EQ(code, 0) << err.str();
+  return code == 0;
+}
+
+/// The record described above, in `db`.
+inline void make_test_record(const std::string& db) {
+  for (const char* t : {"short_scoop.csv", "novice_scoop.csv", "short_scoop.csv",
+                        "short_scoop.csv"})
+    add_replay_attempt(db, "t-ann", t);
+  add_replay_attempt(db, "t-ben", "short_scoop.csv");
+  add_replay_attempt(db, "t-ben", "novice_scoop.csv");
+}
+
+}  // namespace acdr::test

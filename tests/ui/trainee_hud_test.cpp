@@ -1,0 +1,210 @@
+// Tests of ui/trainee_hud: the HUD's model from a live view (alerts from the live state and
+// from recent events), a trainee-view frame drawn offscreen over the 3D scene with the
+// instrument, the material and the HUD's warning colours present, and the score screen.
+#include "ui/trainee_hud.hpp"
+
+#include <gtest/gtest.h>
+
+#include "scenarios/scenario_loader.hpp"
+#include "tests/ui/image_probe.hpp"
+#include "tests/ui/test_record.hpp"
+#include "ui/imgui_offscreen.hpp"
+#include "ui/render_camera.hpp"
+#include "ui/scene_snapshot.hpp"
+
+namespace acdr {
+namespace {
+
+using test::Image;
+using test::Rgb;
+
+std::shared_ptr<const ScenarioModel> small_box() {
+  LoadResult loaded = load_scenario_file(test::kUiData + "small_box.json");
+  EXPECT_TRUE(loaded.ok()) << to_string(loaded.errors);
+  return loaded.model;
+}
+
+bool is_amber(const Rgb& c) { return c.r > 200 && c.g > 130 && c.g < 200 && c.b < 90; }
+bool is_alert_red(const Rgb& c) { return c.r > 190 && c.g < 100 && c.b < 100; }
+
+TEST(TraineeHud, AlertsComeFromLiveStateAndRecentEvents) {
+  const auto scenario = small_box();
+  World world(scenario->world);
+  LiveView view;
+  capture_world_state(world, view.state);
+  view.state.frame.t_s = 10.0;
+  HapticLoopStats loop;
+  loop.rate_hz = 600;
+  loop.target_rate_hz = 1000;
+
+  HudModel calm = make_hud_model(*scenario, world.summary(), view, loop, "mouse");
+  EXPECT_TRUE(calm.alerts.empty());
+  EXPECT_EQ(calm.title, scenario->title);
+  EXPECT_DOUBLE_EQ(calm.device_max_N, 3.3);
+
+  // Shaft above its warning moment, the device silent, a clamp 1 s ago, a rejection 5 s ago.
+  view.state.frame.bending_moment_Nm = 1.2 * world.summary().warning_moment_Nm;
+  view.sample.stale = true;
+  view.events.push_back(Event{5.0, EventKind::kInputRejected, 0.05, "pose jump"});
+  view.events.push_back(Event{9.0, EventKind::kForceClamped, 4.2, "force above device maximum"});
+  const HudModel hud = make_hud_model(*scenario, world.summary(), view, loop, "mouse");
+  ASSERT_EQ(hud.alerts.size(), 3u);
+  EXPECT_EQ(hud.alerts[0].level, AlertLevel::kDanger);  // most severe first
+  EXPECT_NE(hud.alerts[0].text.find("silent"), std::string::npos);
+  EXPECT_NE(hud.alerts[1].text.find("overload"), std::string::npos);
+  EXPECT_NE(hud.alerts[2].text.find("4.2 N"), std::string::npos);  // the recent clamp only
+
+  // Above yield it is a danger.
+  view.sample.stale = false;
+  view.state.frame.bending_moment_Nm = 1.1 * world.summary().yield_moment_Nm;
+  const HudModel bent = make_hud_model(*scenario, world.summary(), view, loop, "mouse");
+  ASSERT_FALSE(bent.alerts.empty());
+  EXPECT_EQ(bent.alerts[0].level, AlertLevel::kDanger);
+  EXPECT_NE(bent.alerts[0].text.find("yield"), std::string::npos);
+}
+
+TEST(TraineeHud, FrameOffscreenShowsInstrumentMaterialHudAndWarningColours) {
+  const auto scenario = small_box();
+  World world(scenario->world);
+  DeviceSample s;
+  s.pose = scenario->world.instrument_start;
+  for (int i = 0; i < 30; ++i) world.step(s);
+  LiveView view;
+  capture_world_state(world, view.state);
+  view.state.frame.bending_moment_Nm = 1.1 * world.summary().yield_moment_Nm;
+  view.sample.stale = true;
+
+  const int w = 1000, h = 640;
+  const RenderScene scene = snapshot_state(world, view.state, float(w) / h);
+  const HudModel hud =
+      make_hud_model(*scenario, world.summary(), view, HapticLoopStats{}, "udp:7000");
+  std::string error;
+  auto ui = ImGuiOffscreen::create(w, h, &error);
+  ASSERT_TRUE(ui) << error;
+  Image im{w, h, {}};
+  ASSERT_TRUE(ui->render(&scene, [&] { draw_trainee_hud(hud, ImVec2(w, h), nullptr); }, &im.rgb,
+                         &error))
+      << error;
+
+  // The instrument's blade (steel) and the nucleus (yellow) where the camera puts them.
+  const Collider* blade = nullptr;
+  for (const Collider& c : view.state.instrument)
+    if (c.kind == ColliderKind::kBox) blade = &c;
+  ASSERT_NE(blade, nullptr);
+  const auto blade_px =
+      project_to_pixel(scene.camera, w, h, blade->pose.position.cast<float>());
+  ASSERT_TRUE(blade_px);
+  EXPECT_GT(im.fraction_in_window(*blade_px, 2, test::is_steel), 0.5)
+      << "blade at " << blade_px->transpose();
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  for (const auto& p : view.state.positions) centroid += p;
+  centroid /= static_cast<float>(view.state.positions.size());
+  centroid.z() = view.state.positions.back().z();  // the top layer, seen from above
+  const auto nucleus_px = project_to_pixel(scene.camera, w, h, centroid);
+  ASSERT_TRUE(nucleus_px);
+  EXPECT_GT(im.fraction_in_window(*nucleus_px, 3, test::is_nucleus_yellow), 0.5);
+
+  // The HUD: text in the status window (top right), and the alert colours: red for the
+  // silent device and the bent shaft, amber marks on the gauges.
+  int text = 0;
+  for (int y = 40; y < 260; ++y)
+    for (int x = w - 330; x < w - 12; ++x) {
+      const Rgb c = im.at(x, y);
+      text += c.r > 170 && c.g > 170 && c.b > 170;
+    }
+  EXPECT_GT(text, 300);
+  EXPECT_GT(im.fraction(is_alert_red), 0.0005);
+  EXPECT_GT(im.fraction(is_amber), 0.00005);
+}
+
+// The anatomical module: a danger zone the instrument comes near turns its warning colour in
+// the 3D view, and the HUD names it.
+TEST(TraineeHud, ZoneTurnsItsWarningColourAndTheHudNamesIt) {
+  LoadResult loaded =
+      load_scenario_file(std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/02_c4c5_healthy.json");
+  ASSERT_TRUE(loaded.ok()) << to_string(loaded.errors);
+  World world(loaded.model->world);
+  ASSERT_NE(world.anatomy(), nullptr);
+  const auto& zones = world.anatomy()->zones();
+  std::size_t artery = zones.size();
+  for (std::size_t i = 0; i < zones.size(); ++i)
+    if (zones[i].name.find("artery") != std::string::npos) artery = std::min(artery, i);
+  ASSERT_LT(artery, zones.size());
+
+  LiveView view;
+  capture_world_state(world, view.state);
+  Frame& f = view.state.frame;
+  ASSERT_GT(f.zone_count, static_cast<int>(artery));
+  f.zones[artery].warning = true;
+  f.zones[artery].distance_m = 1.5e-3f;
+
+  const SceneStyle style;
+  const int w = 1000, h = 640;
+  const RenderScene scene = snapshot_state(world, view.state, float(w) / h, style);
+  int warned = 0;
+  for (const RenderMesh& m : scene.meshes) warned += m.rgba == style.zone_warning;
+  EXPECT_EQ(warned, 1);
+
+  const HudModel hud = make_hud_model(*loaded.model, world.summary(), view, HapticLoopStats{},
+                                      "mouse");
+  ASSERT_FALSE(hud.alerts.empty());
+  EXPECT_EQ(hud.alerts[0].level, AlertLevel::kWarning);
+  EXPECT_NE(hud.alerts[0].text.find(zones[artery].name), std::string::npos) << hud.alerts[0].text;
+  EXPECT_NE(hud.alerts[0].text.find("1.5 mm"), std::string::npos) << hud.alerts[0].text;
+
+  std::string error;
+  auto ui = ImGuiOffscreen::create(w, h, &error);
+  ASSERT_TRUE(ui) << error;
+  Image im{w, h, {}};
+  ASSERT_TRUE(ui->render(&scene, [&] { draw_trainee_hud(hud, ImVec2(w, h), nullptr); }, &im.rgb,
+                         &error));
+  // The warned artery is amber on screen where its centre projects; the instrument is steel.
+  const Vec3 mid = 0.5 * (zones[artery].a_m + zones[artery].b_m);
+  const auto px = project_to_pixel(scene.camera, w, h, mid.cast<float>());
+  ASSERT_TRUE(px);
+  EXPECT_GT(im.fraction_in_window(*px, 3, [](const Rgb& c) {
+    return c.r > 180 && c.g > 90 && c.g < 200 && c.b < 90;
+  }), 0.4) << "artery at " << px->transpose();
+  EXPECT_GT(im.fraction(test::is_steel), 0.005);
+}
+
+AttemptRun failing_run() {
+  AttemptRun run;
+  run.end = AttemptEnd::kTimeLimit;
+  run.score.score = 31.0;
+  run.score.passed = false;
+  run.score.terms = {{"nucleus_removed_fraction", 0.05, 30.0}, {"peak_instrument_force_N", 1.0, 60.0}};
+  run.score.gates = {{"overload_events", 2.0, 0.0, false}};
+  run.score.reasons = {"composite score 31.0 is below the pass score 50.0"};
+  Frame last;
+  last.t_s = 60.0;
+  run.record.frames.push_back(last);
+  return run;
+}
+
+TEST(TraineeHud, ScoreScreenSaysWhatToImprove) {
+  const auto scenario = small_box();
+  const ScoreScreenModel s = make_score_screen(*scenario, failing_run(), "Stored as attempt 3");
+  EXPECT_FALSE(s.passed);
+  EXPECT_EQ(s.end_reason, "time limit");
+  EXPECT_DOUBLE_EQ(s.duration_s, 60.0);
+  ASSERT_EQ(s.rows.size(), 2u);
+  EXPECT_FALSE(s.rows[0].good);
+  EXPECT_NE(s.rows[0].benchmark.find("0.15"), std::string::npos) << s.rows[0].benchmark;
+  EXPECT_TRUE(s.rows[1].good);
+  // Improvements: the weak metric with its target, the failed gate, the reason.
+  ASSERT_EQ(s.improvements.size(), 3u);
+  EXPECT_NE(s.improvements[0].find("aim higher"), std::string::npos) << s.improvements[0];
+  EXPECT_NE(s.improvements[1].find("at or below 0"), std::string::npos) << s.improvements[1];
+
+  const int w = 900, h = 600;
+  std::string error;
+  auto ui = ImGuiOffscreen::create(w, h, &error);
+  ASSERT_TRUE(ui) << error;
+  Image im{w, h, {}};
+  ASSERT_TRUE(ui->render(nullptr, [&] { draw_score_screen(s, ImVec2(w, h)); }, &im.rgb, &error));
+  EXPECT_GT(im.fraction(is_alert_red), 0.0005);  // NOT PASSED, FAILED
+}
+
+}  // namespace
+}  // namespace acdr

@@ -1,0 +1,83 @@
+// Tests of ui/trainee_view: under a display (xvfb-run), the window opens, the attempt runs on
+// the haptic thread while the window draws, the attempt is handed over for storing before the
+// score screen, and the window's pictures show the scene and the HUD. Skipped without one.
+#include "ui/trainee_view.hpp"
+
+#include <gtest/gtest.h>
+#include <stb_image.h>
+
+#include "engine/trajectory.hpp"
+#include "scenarios/scenario_loader.hpp"
+#include "tests/db/db_test_support.hpp"
+#include "tests/ui/image_probe.hpp"
+#include "tests/ui/test_record.hpp"
+
+namespace acdr {
+namespace {
+
+test::Image load_png(const std::string& path) {
+  int w = 0, h = 0, n = 0;
+  unsigned char* data = stbi_load(path.c_str(), &w, &h, &n, 3);
+  test::Image im;
+  if (!data) return im;
+  im.width = w;
+  im.height = h;
+  im.rgb.assign(data, data + static_cast<std::size_t>(w) * h * 3);
+  stbi_image_free(data);
+  return im;
+}
+
+TEST(TraineeView, WindowRunsTheAttemptAndShowsSceneHudAndScore) {
+  if (!display_available()) GTEST_SKIP() << "no DISPLAY (run under xvfb-run to test windows)";
+  LoadResult loaded = load_scenario_file(test::kUiData + "empty_box.json");
+  ASSERT_TRUE(loaded.ok());
+  const ScenarioModel& scenario = *loaded.model;
+  World world(scenario.world);
+  std::vector<TrajectorySample> samples(2);
+  samples[0].pose = scenario.world.instrument_start;
+  samples[1].t_s = 0.5;
+  samples[1].pose = scenario.world.instrument_start;
+  samples[1].pose.position.z() -= 0.01;
+  TrajectoryReplay replay{Trajectory(std::move(samples))};
+
+  test::TempDir dir;
+  TraineeViewOptions options;
+  options.width = 800;
+  options.height = 500;
+  options.vsync = false;
+  options.screenshot = dir.file("live.png");
+  options.score_screenshot = dir.file("score.png");
+  options.close_after_s = 0.0;
+  options.input_label = "replay:test";
+  int handed_over = 0;
+  const TraineeViewOutcome outcome =
+      run_trainee_view(scenario, world, &replay, options, [&](const AttemptRun& run) {
+        ++handed_over;
+        EXPECT_EQ(run.end, AttemptEnd::kInputEnded);
+        return std::string("Stored as attempt 1 (completed)");
+      });
+  ASSERT_TRUE(outcome.ok) << outcome.error;
+  EXPECT_EQ(handed_over, 1);
+  EXPECT_EQ(outcome.run.end, AttemptEnd::kInputEnded);
+  EXPECT_NEAR(world.time_s(), 0.5, 0.01);
+  EXPECT_GT(outcome.haptics.rate_hz, 500.0);
+
+  const test::Image live = load_png(options.screenshot);
+  ASSERT_GT(live.width, 0) << "no live screenshot";
+  EXPECT_GT(live.fraction(test::is_steel), 0.003);      // the instrument
+  EXPECT_GT(live.fraction(test::is_wall_blue), 0.01);   // the box walls
+  int text = 0;  // the status window's text, top right
+  for (int y = 40; y < 200; ++y)
+    for (int x = live.width - 300; x < live.width - 12; ++x) {
+      const test::Rgb c = live.at(x, y);
+      text += c.r > 170 && c.g > 170 && c.b > 170;
+    }
+  EXPECT_GT(text, 200);
+  const test::Image score = load_png(options.score_screenshot);
+  ASSERT_GT(score.width, 0) << "no score screenshot";
+  EXPECT_GT(score.fraction([](const test::Rgb& c) { return c.g > 150 && c.g > c.r + 40; }),
+            0.0003);  // PASSED / held in green
+}
+
+}  // namespace
+}  // namespace acdr

@@ -1,0 +1,116 @@
+// The instructor dashboard's data, read from the training record (db/) into plain structs the
+// view draws: trainees with their curriculum progress and attempts, and, for one selected
+// attempt, its decoded recording turned into time series (forces, shaft moment, removal,
+// tip path) and bands (overload, rejected or lost input). Also the CSV of whatever the
+// dashboard currently shows. No ImGui here, so all of it can be tested without a screen.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "assessment/attempt_recording.hpp"
+#include "db/database.hpp"
+#include "db/progression.hpp"
+#include "db/records.hpp"
+#include "scenarios/scenario_model.hpp"
+
+namespace acdr {
+
+struct DashboardTrainee {
+  TraineeRecord info;
+  std::vector<ModuleProgress> progress;  ///< one per module, in curriculum order
+  std::vector<AttemptRecord> attempts;   ///< in start order, with metrics and score detail
+};
+
+/// A module's scenario as far as the dashboard needs it (benchmarks, geometry for the replay).
+struct DashboardScenario {
+  std::shared_ptr<const ScenarioModel> model;  ///< null when the file cannot be loaded
+  std::string error;                           ///< why not
+};
+
+struct DashboardModel {
+  std::string db_path;
+  std::vector<ModuleRecord> modules;         ///< curriculum order
+  std::vector<DashboardTrainee> trainees;    ///< by id
+  std::vector<AttemptRecord> practice;       ///< attempts without a trainee
+  std::map<std::string, DashboardScenario> scenarios;  ///< by module id
+
+  const DashboardTrainee* find_trainee(const std::string& id) const;
+  const ModuleRecord* find_module(const std::string& id) const;
+  const ScenarioModel* scenario(const std::string& module_id) const;
+};
+
+/// Reads everything but recordings in one consistent snapshot (a read transaction), and loads
+/// each module's scenario file for its benchmarks.
+DbResult<DashboardModel> load_dashboard(Database& db);
+
+/// One shaded interval of time.
+struct TimeBand {
+  double t0_s = 0.0, t1_s = 0.0;
+};
+
+/// An attempt opened for drill-down: its record with events and the decoded recording as
+/// series (one entry per frame, floats for plotting).
+struct AttemptDrillDown {
+  AttemptRecord record;
+  std::optional<AttemptRecording> recording;  ///< nullopt: none stored, or it failed to decode
+  std::string recording_error;
+  std::vector<float> t_s;
+  std::vector<float> hand_force_N;     ///< |force sent to the device|
+  std::vector<float> tissue_force_N;   ///< |nucleus reaction + rigid contact| on the instrument
+  std::vector<float> moment_Nm;        ///< shaft bending moment
+  std::vector<float> removed_fraction; ///< nucleus removed so far / initial nucleus
+  std::vector<TimeBand> overload_warning;  ///< moment above the warning fraction of yield
+  std::vector<TimeBand> overload_yield;    ///< moment above yield
+  std::vector<TimeBand> input_invalid;     ///< device input rejected or lost
+  std::vector<TimeBand> zone_warning;      ///< within a danger zone's warning distance
+  std::vector<TimeBand> zone_inside;       ///< inside a danger zone
+  double duration_s = 0.0;
+
+  /// Index of the last frame at or before time t (0 when none).
+  std::size_t frame_at(double t_s) const;
+};
+
+/// Loads attempt `id` with events and recording. Null with `error` when there is no such
+/// attempt or the store fails; a recording that does not decode is reported in
+/// recording_error, with the rest still shown.
+std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
+                                                  std::string* error);
+
+/// The cell state of the progress matrix: "locked", "not started", "in progress", "passed"
+/// (passed at least once, not yet mastered) or "mastered".
+std::string progress_state(const ModuleProgress& progress);
+
+/// What the dashboard shows: which trainee, module and attempt are selected.
+struct DashboardSelection {
+  std::string trainee_id;     ///< empty: none
+  std::string module_id;      ///< the learning curve's module
+  std::int64_t attempt_id = 0;  ///< 0: none
+  double replay_t_s = 0.0;
+};
+
+/// A first selection for a fresh dashboard: the first trainee with attempts, the module of
+/// their latest attempt, and that attempt.
+DashboardSelection default_selection(const DashboardModel& model);
+
+/// The attempts of `trainee` at `module`, completed or aborted, in start order (the learning
+/// curve's points).
+std::vector<const AttemptRecord*> curve_attempts(const DashboardTrainee& trainee,
+                                                 const std::string& module_id);
+
+/// The CSV of the current view: the attempt's frames when an attempt is open, else the
+/// selected trainee's attempts, else the progress matrix. Header line first; one record per
+/// line; text fields quoted when they hold a comma or quote.
+std::string dashboard_csv(const DashboardModel& model, const DashboardSelection& selection,
+                          const AttemptDrillDown* attempt);
+
+/// A file name for that CSV: dashboard-progress.csv, dashboard-<trainee>.csv or
+/// dashboard-attempt-<id>.csv.
+std::string dashboard_csv_name(const DashboardSelection& selection,
+                               const AttemptDrillDown* attempt);
+
+}  // namespace acdr
