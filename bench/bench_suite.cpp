@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "bench/trace_error.hpp"
@@ -27,17 +28,6 @@ std::string acdr_settings_text(double dt, double tol, double h) {
   return "dt=" + fmt("%g", dt * 1e3) + "ms tol=" + fmt("%g", tol) + " h=" + fmt("%g", h * 1e3) +
          "mm";
 }
-
-/// Tracks the fraction of the benchmark done, by simulated steps weighted by particles.
-struct Progress {
-  const BenchConfig& config;
-  double total = 1.0;
-  double done = 0.0;
-  std::string what;
-  void report(double part) const {
-    if (config.progress) config.progress(what, std::min(1.0, (done + part) / total));
-  }
-};
 
 /// Parts of a C4-C5 scene that the box module does not declare (two vertebral bodies, the
 /// posterior elements as capsules, the uncinate processes), placed beside the box: what an
@@ -204,20 +194,53 @@ std::string describe_machine() {
   return out.str();
 }
 
+BenchGrid default_grid(bool quick) {
+  BenchGrid g;
+  if (!quick) return g;
+  // Quick: short windows of the scoops, two steps, three tolerances, one coarser lattice, two
+  // peer sweeps, four lattices for the scaling with few steps, short skip runs.
+  g.window_s = 0.25;
+  g.reference_tolerance = 1e-6;
+  g.dts_s = {1e-3, 2e-3};
+  g.tolerances = {1e-2, 1e-3, 1e-4};
+  g.spacing_factors = {2.0};
+  g.peer_iterations = {2, 8};
+  g.scaling_spacings_m = {1.7e-3, 1.0e-3, 0.7e-3, 0.46e-3};
+  g.scaling_warmup_steps = 2;
+  g.scaling_timed_steps = 4;
+  g.skip_lead_s = 0.35;
+  g.skip_window_s = 0.5;
+  return g;
+}
+
+namespace {
+
+/// One unit of work with its share of the progress bar (~ steps x particles, relative).
+struct Job {
+  std::string what;
+  double weight = 1.0;
+  std::function<void(const std::function<void(double)>&)> run;
+};
+
+}  // namespace
+
 bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string* error) {
   const auto t_start = std::chrono::steady_clock::now();
   BenchReport& rep = *report;
   rep = BenchReport{};
   rep.machine = describe_machine();
-  const bool quick = config.quick;
+  rep.quick = config.quick;
+  const BenchGrid& grid = config.grid;
 
-  // Scenes.
   struct Loaded {
     BenchScene scene;
     WorldConfig world;
     Trajectory trajectory;
+    RunWindow window;
+    RunTrace reference;
   };
   std::vector<Loaded> scenes;
+  scenes.reserve(config.scenes.size());
   for (const BenchScene& s : config.scenes) {
     const LoadResult loaded = load_scenario_file(s.scenario_path);
     if (!loaded.ok()) {
@@ -227,9 +250,18 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
     }
     auto trajectory = Trajectory::load_csv(s.trajectory_path, error);
     if (!trajectory) return false;
-    Loaded l{s, loaded.model->world, std::move(*trajectory)};
-    // Quick: a coarser lattice of the same scene (fewer particles, same geometry and motion).
-    if (quick) l.world.nucleus.spacing_m = std::max(l.world.nucleus.spacing_m, 2.0e-3);
+    Loaded l{s, loaded.model->world, std::move(*trajectory), {}, {}};
+    if (s.spacing_m > 0.0) l.world.nucleus.spacing_m = s.spacing_m;
+    l.window.start_s = s.window_start_s;
+    l.window.duration_s = grid.window_s;
+    l.window.sample_s = grid.sample_s;
+    if (l.window.start_s + l.window.duration_s > l.trajectory.duration_s()) {
+      *error = s.trajectory_path + ": the window " + fmt("%g", l.window.start_s) + " s + " +
+               fmt("%g", l.window.duration_s) + " s runs past the trajectory's end (" +
+               fmt("%g", l.trajectory.duration_s()) + " s)";
+      return false;
+    }
+    rep.windows.emplace_back(s.name, l.window);
     scenes.push_back(std::move(l));
   }
   if (scenes.empty()) {
@@ -237,241 +269,230 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
     return false;
   }
 
-  // The window: the blade entering the material and digging (the costly, force-carrying part
-  // of a scoop). The box demo's first contact is at ~1.9 s.
-  RunWindow window;
-  window.start_s = quick ? 1.85 : 1.8;
-  window.duration_s = quick ? 0.4 : 1.5;
-  window.sample_s = 0.01;
-  rep.window = window;
-
-  // Grid.
-  const double ref_dt = 0.5e-3;
-  const double ref_tol = quick ? 1e-6 : 1e-7;
-  std::vector<double> dts = quick ? std::vector<double>{1e-3, 2e-3}
-                                  : std::vector<double>{0.5e-3, 1e-3, 2e-3};
-  std::vector<double> tols = {1e-2, 1e-3, 1e-4};
-  if (!quick) tols.push_back(1e-5);
-  std::vector<double> coarser = quick ? std::vector<double>{} : std::vector<double>{1.5e-3, 2e-3};
-  std::vector<int> peer_iters = quick ? std::vector<int>{2, 8} : std::vector<int>{1, 2, 4, 8, 16};
-
-  // Progress weights: simulated steps x particles, roughly.
-  Progress progress{config, 1.0, 0.0, {}};
-  const double window_steps = window.duration_s / 1e-3;
-  progress.total = double(scenes.size()) *
-                       (window_steps * (1e-3 / ref_dt) * 3.0 +
-                        window_steps * double(dts.size() * tols.size() + coarser.size()) +
-                        0.3 * window_steps * double(peer_iters.size())) +
-                   (quick ? 8.0 : 20.0) * window_steps + (quick ? 0.5 : 3.0) * window_steps;
-
-  for (const Loaded& sc : scenes) {
+  // Cost weights for the progress display: simulated steps x particles relative to the scene's
+  // own lattice (1 per step at the scene's spacing); the peer and the reference are costlier.
+  std::vector<Job> jobs;
+  for (Loaded& sc : scenes) {
     const WorldConfig& base = sc.world;
     const double h = base.nucleus.spacing_m;
-    // Reference: the finest step and a tight tolerance.
-    RunSettings ref_settings;
-    ref_settings.dt_s = ref_dt;
-    ref_settings.tolerance = ref_tol;
-    ref_settings.max_iterations = 2000;
-    progress.what = sc.scene.name + ": reference " + acdr_settings_text(ref_dt, ref_tol, h);
-    const RunTrace reference =
-        run_scene(apply_settings(base, ref_settings), sc.trajectory, window,
-                  [&](double f) { progress.report(f * window_steps * 3.0 * (1e-3 / ref_dt)); });
-    progress.done += window_steps * 3.0 * (1e-3 / ref_dt);
-    {
-      WorkPoint p = make_point(sc.scene.name, reference, reference);
-      p.solver = "acdr";
-      p.dt_s = ref_dt;
-      p.tolerance = ref_tol;
-      p.spacing_m = h;
-      p.settings = acdr_settings_text(ref_dt, ref_tol, h) + " (reference)";
-      p.is_reference = true;
-      rep.points.push_back(p);
-    }
-    auto add_acdr = [&](double dt, double tol, double spacing, bool is_default) {
-      RunSettings s;
-      s.dt_s = dt;
-      s.tolerance = tol;
-      s.spacing_m = spacing;
-      if (!is_default) s.max_iterations = 2000;
-      progress.what = sc.scene.name + ": acdr " + acdr_settings_text(dt, tol, spacing);
-      const RunTrace run = run_scene(apply_settings(base, s), sc.trajectory, window,
-                                     [&](double f) { progress.report(f * window_steps); });
-      progress.done += window_steps;
-      WorkPoint p = make_point(sc.scene.name, run, reference);
-      p.solver = "acdr";
-      p.dt_s = dt;
-      p.tolerance = tol;
-      p.spacing_m = spacing;
-      p.settings = acdr_settings_text(dt, tol, spacing) + (is_default ? " (default)" : "");
-      p.is_default = is_default;
-      rep.points.push_back(p);
+    const double steps = grid.window_s / 1e-3;
+    // Reference: the finest step and the tightest tolerance, at the scene's spacing.
+    jobs.push_back(
+        {sc.scene.name + ": reference " +
+             acdr_settings_text(grid.reference_dt_s, grid.reference_tolerance, h),
+         steps * (1e-3 / grid.reference_dt_s) * 3.0, [&, h](const auto& progress) {
+           RunSettings rs;
+           rs.dt_s = grid.reference_dt_s;
+           rs.tolerance = grid.reference_tolerance;
+           rs.max_iterations = grid.reference_max_iterations;
+           sc.reference = run_scene(apply_settings(base, rs), sc.trajectory, sc.window, progress);
+           WorkPoint p = make_point(sc.scene.name, sc.reference, sc.reference);
+           p.solver = "acdr";
+           p.dt_s = grid.reference_dt_s;
+           p.tolerance = grid.reference_tolerance;
+           p.spacing_m = h;
+           p.settings = acdr_settings_text(p.dt_s, p.tolerance, h) + " (reference)";
+           p.is_reference = true;
+           rep.points.push_back(p);
+         }});
+    auto add_acdr = [&, h, steps](double dt, double tol, double spacing, bool is_default) {
+      const double weight = steps * (1e-3 / dt) * std::pow(h / spacing, 3.0);
+      jobs.push_back({sc.scene.name + ": acdr " + acdr_settings_text(dt, tol, spacing), weight,
+                      [&, dt, tol, spacing, is_default](const auto& progress) {
+                        RunSettings s;
+                        s.dt_s = dt;
+                        s.tolerance = tol;
+                        s.spacing_m = spacing;
+                        if (!is_default) s.max_iterations = grid.reference_max_iterations;
+                        const RunTrace run = run_scene(apply_settings(base, s), sc.trajectory,
+                                                       sc.window, progress);
+                        WorkPoint p = make_point(sc.scene.name, run, sc.reference);
+                        p.solver = "acdr";
+                        p.dt_s = dt;
+                        p.tolerance = tol;
+                        p.spacing_m = spacing;
+                        p.settings = acdr_settings_text(dt, tol, spacing) +
+                                     (is_default ? " (default)" : "");
+                        p.is_default = is_default;
+                        rep.points.push_back(p);
+                      }});
     };
-    for (double dt : dts)
-      for (double tol : tols) {
+    bool has_default = false;
+    for (double dt : grid.dts_s)
+      for (double tol : grid.tolerances) {
         const bool is_default = std::abs(dt - base.solver.dt_s) < 1e-12 &&
                                 std::abs(tol - base.solver.tolerance) < 1e-15;
+        has_default = has_default || is_default;
         add_acdr(dt, tol, h, is_default);
       }
     // The scene's own settings, when the grid does not hold them.
-    bool has_default = false;
-    for (const WorkPoint& p : rep.points) has_default = has_default || (p.is_default && p.scene == sc.scene.name);
     if (!has_default) add_acdr(base.solver.dt_s, base.solver.tolerance, h, true);
-    for (double spacing : coarser) add_acdr(base.solver.dt_s, base.solver.tolerance, spacing, false);
+    for (double f : grid.spacing_factors)
+      add_acdr(base.solver.dt_s, base.solver.tolerance, f * h, false);
 
-    // The peer, on the reference's instrument path.
-    for (int it : peer_iters) {
-      PeerSettings ps;
-      ps.dt_s = 1e-3;
-      ps.position_iterations = it;
-      ps.link_stiffness = 1.0;
-      progress.what = sc.scene.name + ": bullet piterations=" + std::to_string(it);
-      const RunTrace peer = run_bullet_peer(
-          base, sc.trajectory.at(window.start_s), reference.instrument, window, ps,
-          [&](double f) { progress.report(f * 0.3 * window_steps); });
-      progress.done += 0.3 * window_steps;
-      WorkPoint p = make_point(sc.scene.name, peer, reference);
-      p.solver = "bullet";
-      p.dt_s = ps.dt_s;
-      p.iterations = it;
-      p.link_stiffness = ps.link_stiffness;
-      p.spacing_m = h;
-      p.settings = "dt=1ms piterations=" + std::to_string(it) + " kLST=1 h=" + fmt("%g", h * 1e3) + "mm";
-      rep.points.push_back(p);
+    // The peer, on the reference's instrument path, at the same lattice (one node per
+    // particle, one link per bond).
+    for (int it : grid.peer_iterations) {
+      jobs.push_back(
+          {sc.scene.name + ": bullet piterations=" + std::to_string(it),
+           steps * (0.3 + 0.1 * it), [&, it, h](const auto& progress) {
+             PeerSettings ps;
+             ps.dt_s = 1e-3;
+             ps.position_iterations = it;
+             ps.link_stiffness = 1.0;
+             const RunTrace peer =
+                 run_bullet_peer(base, sc.trajectory.at(sc.window.start_s),
+                                 sc.reference.instrument, sc.window, ps, progress);
+             WorkPoint p = make_point(sc.scene.name, peer, sc.reference);
+             p.solver = "bullet";
+             p.dt_s = ps.dt_s;
+             p.iterations = it;
+             p.link_stiffness = ps.link_stiffness;
+             p.spacing_m = h;
+             p.settings = "dt=1ms piterations=" + std::to_string(it) +
+                          " kLST=1 h=" + fmt("%g", h * 1e3) + "mm";
+             rep.points.push_back(p);
+           }});
     }
   }
 
   // Scaling: cost of a step with every particle awake (the worst case; sleeping far particles
-  // is a skip measured below) against particle count, on the first scene.
-  {
-    const Loaded& sc = scenes.front();
-    rep.scaling_scene = sc.scene.name;
-    const std::vector<double> spacings =
-        quick ? std::vector<double>{2.0e-3, 1.5e-3, 1.2e-3, 1.0e-3}
-              : std::vector<double>{1.7e-3, 1.25e-3, 1.0e-3, 0.8e-3, 0.62e-3, 0.46e-3};
-    RunWindow w;
-    w.start_s = 2.0;
-    w.warmup_steps = 5;
-    const int timed = quick ? 10 : 30;
-    w.duration_s = (w.warmup_steps + timed) * sc.world.solver.dt_s;
-    std::vector<double> n, cost, per_it;
-    for (double spacing : spacings) {
-      RunSettings s;
-      s.spacing_m = spacing;
-      s.sleep = 0;
-      progress.what = "scaling: h=" + fmt("%g", spacing * 1e3) + "mm";
-      progress.report(0.0);
-      const RunTrace run = run_scene(apply_settings(sc.world, s), sc.trajectory, w);
-      progress.done += (quick ? 2.0 : 5.0) * window_steps / double(spacings.size());
-      ScalingPoint p;
-      p.spacing_m = spacing;
-      p.particles = run.particles;
-      const double steps = std::max<double>(1.0, double(run.timed_steps));
-      p.wall_ms_per_step = 1e3 * run.wall_s / steps;
-      p.cpu_ms_per_step = 1e3 * run.cpu_s / steps;
-      p.mean_iterations = run.mean_iterations;
-      p.cpu_us_per_iteration_per_particle =
-          run.mean_iterations > 0.0 && run.particles > 0
-              ? 1e3 * p.cpu_ms_per_step / run.mean_iterations / double(run.particles)
-              : 0.0;
-      rep.scaling.push_back(p);
-      n.push_back(double(run.particles));
-      cost.push_back(p.cpu_ms_per_step);
-      per_it.push_back(p.cpu_ms_per_step / std::max(1.0, run.mean_iterations));
-    }
-    rep.scaling_fit = fit_power(n, cost);
-    rep.per_iteration_fit = fit_power(n, per_it);
+  // is a skip measured below) against particle count, on the first scene, the blade in the
+  // material.
+  const Loaded& first = scenes.front();
+  rep.scaling_scene = first.scene.name;
+  std::vector<double> n, cost, per_it;
+  for (double spacing : grid.scaling_spacings_m) {
+    const double weight = double(grid.scaling_warmup_steps + grid.scaling_timed_steps) *
+                              std::pow(first.world.nucleus.spacing_m / spacing, 3.0) * 3.0 +
+                          20.0 * std::pow(1e-3 / spacing, 3.0);  // + building the lattice
+    jobs.push_back({"scaling: h=" + fmt("%g", spacing * 1e3) + "mm", weight,
+                    [&, spacing](const auto&) {
+                      RunWindow w;
+                      w.start_s = first.window.start_s + 0.1;
+                      w.warmup_steps = grid.scaling_warmup_steps;
+                      w.duration_s = (grid.scaling_warmup_steps + grid.scaling_timed_steps) *
+                                     first.world.solver.dt_s;
+                      RunSettings s;
+                      s.spacing_m = spacing;
+                      s.sleep = 0;
+                      const RunTrace run =
+                          run_scene(apply_settings(first.world, s), first.trajectory, w);
+                      ScalingPoint p;
+                      p.spacing_m = spacing;
+                      p.particles = run.particles;
+                      const double timed = std::max<double>(1.0, double(run.timed_steps));
+                      p.wall_ms_per_step = 1e3 * run.wall_s / timed;
+                      p.cpu_ms_per_step = 1e3 * run.cpu_s / timed;
+                      p.mean_iterations = run.mean_iterations;
+                      p.cpu_us_per_iteration_per_particle =
+                          run.mean_iterations > 0.0 && run.particles > 0
+                              ? 1e3 * p.cpu_ms_per_step / run.mean_iterations /
+                                    double(run.particles)
+                              : 0.0;
+                      rep.scaling.push_back(p);
+                      n.push_back(double(run.particles));
+                      cost.push_back(p.cpu_ms_per_step);
+                      per_it.push_back(p.cpu_ms_per_step / std::max(1.0, run.mean_iterations));
+                    }});
   }
 
   // Skips, on the first scene: each switched off against on (the default); the error is the
   // on-run against the off-run.
-  {
-    const Loaded& sc = scenes.front();
-    rep.skips_scene = sc.scene.name;
-    RunWindow w = window;
-    // Sleeping needs time to matter: start while the instrument is still above the material.
-    w.start_s = quick ? 1.4 : 1.0;
-    w.duration_s = quick ? 0.9 : 2.5;
-    const double w_steps = w.duration_s / 1e-3;
-    const double share = (quick ? 8.0 : 20.0) * window_steps / 8.0;
-    auto run_pair = [&](SkipResult& r, const std::function<RunTrace(bool)>& run) {
-      progress.what = "skip " + r.name + ": on";
-      progress.report(0.0);
-      const RunTrace on = run(true);
-      progress.done += share;
-      progress.what = "skip " + r.name + ": off";
-      progress.report(0.0);
-      const RunTrace off = run(false);
-      progress.done += share;
-      const TraceError e = trace_error(on, off);
-      r.on_wall_s_per_sim_s = on.wall_s / std::max(1e-12, on.sim_s);
-      r.off_wall_s_per_sim_s = off.wall_s / std::max(1e-12, off.sim_s);
-      r.on_cpu_s_per_sim_s = on.cpu_s / std::max(1e-12, on.sim_s);
-      r.off_cpu_s_per_sim_s = off.cpu_s / std::max(1e-12, off.sim_s);
-      r.gain = r.on_cpu_s_per_sim_s > 0.0 ? r.off_cpu_s_per_sim_s / r.on_cpu_s_per_sim_s : 0.0;
-      if (r.name == "headless")
-        r.gain = r.on_wall_s_per_sim_s > 0.0 ? r.off_wall_s_per_sim_s / r.on_wall_s_per_sim_s : 0.0;
-      r.force_rms_error = e.force_rms;
-      r.removed_error = e.removed;
-      r.measured = true;
+  rep.skips_scene = first.scene.name;
+  RunWindow skip_window = first.window;
+  skip_window.start_s = std::max(0.0, first.window.start_s - grid.skip_lead_s);
+  skip_window.duration_s = grid.skip_window_s;
+  const double skip_weight = grid.skip_window_s / 1e-3 * 0.7;
+  RunTrace skip_path;  // the instrument path of a default run (undeclared-parts skip)
+  auto add_skip = [&](const std::string& name, const std::string& description,
+                      std::function<RunTrace(bool)> run) {
+    const std::size_t index = rep.skips.size();
+    SkipResult r;
+    r.name = name;
+    r.description = description;
+    rep.skips.push_back(r);
+    if (!run) return;
+    auto on = std::make_shared<RunTrace>();
+    jobs.push_back({"skip " + name + ": on", skip_weight,
+                    [&, on, run](const auto&) { *on = run(true); }});
+    jobs.push_back({"skip " + name + ": off", skip_weight, [&, on, run, index](const auto&) {
+                      const RunTrace off = run(false);
+                      SkipResult& s = rep.skips[index];
+                      const TraceError e = trace_error(*on, off);
+                      s.on_wall_s_per_sim_s = on->wall_s / std::max(1e-12, on->sim_s);
+                      s.off_wall_s_per_sim_s = off.wall_s / std::max(1e-12, off.sim_s);
+                      s.on_cpu_s_per_sim_s = on->cpu_s / std::max(1e-12, on->sim_s);
+                      s.off_cpu_s_per_sim_s = off.cpu_s / std::max(1e-12, off.sim_s);
+                      // The renderer's cost is outside this thread's CPU time only partly
+                      // (OSMesa runs here, but the driver may not): compare wall time.
+                      const bool wall = s.name == "headless";
+                      const double on_t = wall ? s.on_wall_s_per_sim_s : s.on_cpu_s_per_sim_s;
+                      const double off_t = wall ? s.off_wall_s_per_sim_s : s.off_cpu_s_per_sim_s;
+                      s.gain = on_t > 0.0 ? off_t / on_t : 0.0;
+                      s.force_rms_error = e.force_rms;
+                      s.removed_error = e.removed;
+                      s.measured = true;
+                    }});
+  };
+  add_skip("sleep", "particles at rest far from the instrument are not integrated",
+           [&](bool on) {
+             RunSettings s;
+             s.sleep = on ? 1 : 0;
+             return run_scene(apply_settings(first.world, s), first.trajectory, skip_window);
+           });
+  add_skip("contact_culling",
+           "particle-collider contacts only where bounding boxes come within reach",
+           [&](bool on) {
+             WorldConfig c = first.world;
+             c.solver.contact_culling = on;
+             return run_scene(c, first.trajectory, skip_window);
+           });
+  // The instrument path of a default run, then the nucleus alone with and without the parts a
+  // full anatomy scene would add (they are not built when the scenario does not declare them).
+  jobs.push_back({"skip undeclared_parts: instrument path", skip_weight, [&](const auto&) {
+                    skip_path = run_scene(first.world, first.trajectory, skip_window);
+                  }});
+  add_skip("undeclared_parts",
+           "parts the scenario does not declare are not built (here: the C4-C5 bodies and "
+           "posterior elements beside the box)",
+           [&](bool on) {
+             return run_nucleus_only(first.world, first.trajectory.at(skip_window.start_s),
+                                     skip_path.instrument, skip_window,
+                                     on ? std::vector<Collider>{} : undeclared_parts());
+           });
+  std::function<RunTrace(bool)> headless;
+  if (config.render_frame) {
+    headless = [&](bool on) {
+      if (on) return run_scene(first.world, first.trajectory, skip_window);
+      double next_frame = 0.0;
+      return run_scene(first.world, first.trajectory, skip_window, {},
+                       [&](const World& world, const Frame& f) {
+                         if (f.t_s + 1e-9 < next_frame) return;
+                         next_frame = f.t_s + 1.0 / 60.0;
+                         config.render_frame(world);
+                       });
     };
-    (void)w_steps;
-    {
-      SkipResult r;
-      r.name = "sleep";
-      r.description = "particles at rest far from the instrument are not integrated";
-      run_pair(r, [&](bool on) {
-        RunSettings s;
-        s.sleep = on ? 1 : 0;
-        return run_scene(apply_settings(sc.world, s), sc.trajectory, w);
-      });
-      rep.skips.push_back(r);
-    }
-    {
-      SkipResult r;
-      r.name = "contact_culling";
-      r.description = "particle-collider contacts only where bounding boxes come within reach";
-      run_pair(r, [&](bool on) {
-        WorldConfig c = sc.world;
-        c.solver.contact_culling = on;
-        return run_scene(c, sc.trajectory, w);
-      });
-      rep.skips.push_back(r);
-    }
-    {
-      // The instrument path of a default run, then the nucleus alone with and without the
-      // parts a full anatomy scene would add.
-      SkipResult r;
-      r.name = "undeclared_parts";
-      r.description = "parts the scenario does not declare are not built (here: the C4-C5 "
-                      "bodies and posterior elements beside the box)";
-      const RunTrace path = run_scene(sc.world, sc.trajectory, w);
-      const std::vector<Collider> extra = undeclared_parts();
-      run_pair(r, [&](bool on) {
-        return run_nucleus_only(sc.world, sc.trajectory.at(w.start_s), path.instrument, w,
-                                on ? std::vector<Collider>{} : extra);
-      });
-      rep.skips.push_back(r);
-    }
-    {
-      SkipResult r;
-      r.name = "headless";
-      r.description = "no renderer when headless (off: a frame drawn offscreen at 60 Hz)";
-      if (config.render_frame) {
-        run_pair(r, [&](bool on) {
-          if (on) return run_scene(sc.world, sc.trajectory, w);
-          double next_frame = 0.0;
-          return run_scene(sc.world, sc.trajectory, w, {},
-                           [&](const World& world, const Frame& f) {
-                             if (f.t_s + 1e-9 < next_frame) return;
-                             next_frame = f.t_s + 1.0 / 60.0;
-                             config.render_frame(world);
-                           });
-        });
-      }
-      rep.skips.push_back(r);
-    }
   }
-  rep.machine += " -> " + describe_machine().substr(describe_machine().find("load average"));
+  add_skip("headless", "no renderer when headless (off: a frame drawn offscreen at 60 Hz)",
+           headless);
+
+  // Run.
+  double total = 0.0, done = 0.0;
+  for (const Job& j : jobs) total += j.weight;
+  for (const Job& j : jobs) {
+    auto progress = [&](double f) {
+      if (config.progress) config.progress(j.what, std::min(1.0, (done + f * j.weight) / total));
+    };
+    progress(0.0);
+    j.run(progress);
+    done += j.weight;
+  }
+  rep.scaling_fit = fit_power(n, cost);
+  rep.per_iteration_fit = fit_power(n, per_it);
+
+  const std::string end = describe_machine();
+  rep.machine += " -> " + end.substr(end.find("load average"));
   rep.wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   if (config.progress) config.progress("done", 1.0);

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/bullet_peer.hpp"
@@ -18,10 +19,42 @@ struct BenchScene {
   std::string name;          ///< "box", "c4c5", ...
   std::string scenario_path;
   std::string trajectory_path;
+  /// Trajectory time the work-precision window starts at (s): just before the instrument
+  /// enters the material, so the window holds the costly, force-carrying part of a scoop.
+  double window_start_s = 0.0;
+  /// > 0: replaces the scenario's particle spacing (m), e.g. a tiny scene for a test.
+  double spacing_m = 0.0;
 };
 
+/// What the benchmark runs: the grid of the work-precision diagram, the peer's sweep, the
+/// scaling lattices and the skip runs. `default_grid` gives the full and the quick grids.
+struct BenchGrid {
+  double window_s = 1.5;             ///< simulated time of each work-precision run
+  double sample_s = 0.01;            ///< force windows compared between runs
+  double reference_dt_s = 0.5e-3;    ///< the converged reference: finest step ...
+  double reference_tolerance = 1e-7; ///< ... tightest PCG tolerance
+  int reference_max_iterations = 2000;
+  std::vector<double> dts_s{0.5e-3, 1e-3, 2e-3};
+  std::vector<double> tolerances{1e-2, 1e-3, 1e-4, 1e-5};
+  /// Coarser lattices, as multiples of the scene's spacing (at its own dt and tolerance).
+  std::vector<double> spacing_factors{1.5, 2.0};
+  std::vector<int> peer_iterations{1, 2, 4, 8, 16};  ///< Bullet position iterations swept
+  /// Scaling: particle spacings on the first scene (every particle awake), steps per point.
+  std::vector<double> scaling_spacings_m{1.7e-3, 1.25e-3, 1.0e-3, 0.8e-3, 0.62e-3, 0.46e-3};
+  int scaling_warmup_steps = 5;
+  int scaling_timed_steps = 30;
+  /// Skips, on the first scene: runs start this long before the work-precision window (the
+  /// particles need time at rest to fall asleep) and last `skip_window_s`.
+  double skip_lead_s = 0.8;
+  double skip_window_s = 2.5;
+};
+
+/// The full grid, or the quick one (within two minutes on this 2-core machine).
+BenchGrid default_grid(bool quick);
+
 struct BenchConfig {
-  bool quick = false;  ///< the small grid (finishes within two minutes on a 2-core machine)
+  bool quick = false;  ///< informational (the grid decides what runs)
+  BenchGrid grid;
   std::vector<BenchScene> scenes;
   /// Progress: what runs now and the fraction of the whole benchmark done (0..1).
   std::function<void(const std::string& what, double fraction)> progress;
@@ -93,7 +126,9 @@ struct BenchReport {
   std::string skips_scene;
   std::string machine;             ///< CPU model, cores, load average at start and end
   double wall_s = 0.0;             ///< the whole benchmark
-  RunWindow window;                ///< the trajectory window of the work-precision runs
+  bool quick = false;
+  /// The trajectory window of each scene's work-precision runs (same order as the scenes).
+  std::vector<std::pair<std::string, RunWindow>> windows;
 };
 
 /// Runs the benchmark. Returns false with `error` set when a scene cannot be loaded.

@@ -124,41 +124,65 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
   c.line(left, py(0.05), right, py(0.05), mark, 2, 4);
   c.text(right - c.text_width("5 % error") - 4, py(0.05) - 20, "5 % error", mark);
 
-  // Points: acdr as filled squares, bullet as crosses; the default point ringed.
+  // Points: colour per solver, marker per scene (first scene: square / X, second: diamond /
+  // plus, further: the same again); the default point ringed.
+  std::vector<std::string> scenes;
+  for (const WorkPoint& p : report.points)
+    if (std::find(scenes.begin(), scenes.end(), p.scene) == scenes.end()) scenes.push_back(p.scene);
+  auto scene_index = [&](const std::string& s) {
+    return static_cast<int>(std::find(scenes.begin(), scenes.end(), s) - scenes.begin()) % 2;
+  };
+  auto marker = [&](double x, double y, bool bullet, int shape) {
+    if (bullet) {
+      if (shape == 0) {
+        c.line(x - 6, y - 6, x + 6, y + 6, peer, 3);
+        c.line(x - 6, y + 6, x + 6, y - 6, peer, 3);
+      } else {
+        c.line(x - 7, y, x + 7, y, peer, 3);
+        c.line(x, y - 7, x, y + 7, peer, 3);
+      }
+    } else if (shape == 0) {
+      c.rect(static_cast<int>(x) - 5, static_cast<int>(y) - 5, static_cast<int>(x) + 6,
+             static_cast<int>(y) + 6, ours);
+    } else {
+      for (int d = -7; d <= 7; ++d) {
+        const int half = 7 - std::abs(d);
+        c.rect(static_cast<int>(x) - half, static_cast<int>(y) + d, static_cast<int>(x) + half + 1,
+               static_cast<int>(y) + d + 1, ours);
+      }
+    }
+  };
   for (const WorkPoint& p : report.points) {
     if (p.is_reference) continue;
     const double x = px(p.wall_s_per_sim_s), y = py(p.force_rms_error);
-    if (p.solver == "bullet") {
-      c.line(x - 6, y - 6, x + 6, y + 6, peer, 3);
-      c.line(x - 6, y + 6, x + 6, y - 6, peer, 3);
-    } else {
-      c.rect(static_cast<int>(x) - 5, static_cast<int>(y) - 5, static_cast<int>(x) + 6,
-             static_cast<int>(y) + 6, ours);
-      if (p.is_default) {
-        for (int k = 0; k < 48; ++k) {
-          const double a = k * 2.0 * M_PI / 48.0;
-          c.rect(static_cast<int>(x + 11 * std::cos(a)) - 1, static_cast<int>(y + 11 * std::sin(a)) - 1,
-                 static_cast<int>(x + 11 * std::cos(a)) + 1, static_cast<int>(y + 11 * std::sin(a)) + 1,
-                 black);
-        }
+    marker(x, y, p.solver == "bullet", scene_index(p.scene));
+    if (p.is_default) {
+      for (int k = 0; k < 48; ++k) {
+        const double a = k * 2.0 * M_PI / 48.0;
+        const int rx = static_cast<int>(x + 11 * std::cos(a)), ry = static_cast<int>(y + 11 * std::sin(a));
+        c.rect(rx - 1, ry - 1, rx + 1, ry + 1, black);
       }
     }
   }
 
   // Titles and legend.
-  std::string title = "Work-precision: instrument force error vs run time";
-  if (!report.points.empty()) title += " (" + report.points.front().scene + ")";
-  c.text(left, 18, title, black, 2);
+  c.text(left, 18, "Work-precision: instrument force error vs run time", black, 2);
   const std::string xl = "wall seconds per simulated second";
   c.text((left + right) / 2.0 - c.text_width(xl) / 2.0, bottom + 40, xl, black);
-  c.text(12, top - 30, "force RMS error (relative)", black);
-  const int lx = right - 250, ly = bottom - 70;
-  c.rect(lx - 8, ly - 8, right - 8, bottom - 10, Rgb{250, 250, 250});
-  c.rect(lx, ly + 3, lx + 11, ly + 14, ours);
-  c.text(lx + 20, ly, "acdr (ringed: default)", black);
-  c.line(lx, ly + 28, lx + 11, ly + 39, peer, 3);
-  c.line(lx, ly + 39, lx + 11, ly + 28, peer, 3);
-  c.text(lx + 20, ly + 27, "Bullet btSoftBody", black);
+  c.text(12, top - 30, "force RMS error (relative to the converged reference)", black);
+  const int rows = 2 * static_cast<int>(std::min<std::size_t>(scenes.size(), 2)) + 1;
+  const int lx = right - 270, ly = bottom - 27 * rows - 6;
+  c.rect(lx - 10, ly - 8, right - 8, bottom - 8, Rgb{250, 250, 250});
+  int row = 0;
+  for (std::size_t k = 0; k < scenes.size() && k < 2; ++k) {
+    for (bool bullet : {false, true}) {
+      const double y = ly + 27 * row + 7;
+      marker(lx + 6, y, bullet, static_cast<int>(k));
+      c.text(lx + 20, y - 7, (bullet ? "Bullet btSoftBody, " : "acdr, ") + scenes[k], black);
+      ++row;
+    }
+  }
+  c.text(lx + 20, ly + 27 * row, "ringed: the scene's defaults", black);
   (void)dark;
   return c.take();
 }

@@ -1,15 +1,15 @@
 // Formatting of `acdr bench`: table, JSON, CSV and the PNG plot around the bench library.
 #include "ui/commands/bench_command.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <memory>
 #include <sstream>
 #include <unistd.h>
 
+#include "bench/bench_report_format.hpp"
 #include "bench/bench_suite.hpp"
 #include "bench/work_precision_plot.hpp"
 #include "ui/offscreen_render.hpp"
@@ -17,159 +17,19 @@
 #include "ui/scene_snapshot.hpp"
 
 namespace acdr {
-namespace {
-
-std::string num(double v, int precision = 3) {
-  std::ostringstream s;
-  s << std::setprecision(precision) << v;
-  return s.str();
-}
-
-nlohmann::json point_json(const WorkPoint& p) {
-  nlohmann::json settings = {{"dt_s", p.dt_s}, {"spacing_m", p.spacing_m}};
-  if (p.solver == "acdr") {
-    settings["tolerance"] = p.tolerance;
-  } else {
-    settings["position_iterations"] = p.iterations;
-    settings["link_stiffness"] = p.link_stiffness;
-  }
-  return {{"scene", p.scene},
-          {"solver", p.solver},
-          {"settings", settings},
-          {"label", p.settings},
-          {"particles", p.particles},
-          {"links", p.links},
-          {"wall_s_per_sim_s", p.wall_s_per_sim_s},
-          {"cpu_s_per_sim_s", p.cpu_s_per_sim_s},
-          {"force_rms_error", p.force_rms_error},
-          {"force_peak_error", p.force_peak_error},
-          {"removed_error", p.removed_error},
-          {"mean_iterations", p.mean_iterations},
-          {"mean_active", p.mean_active},
-          {"default", p.is_default},
-          {"reference", p.is_reference},
-          {"failed", p.failed}};
-}
-
-void write_table(const BenchReport& r, std::ostream& out) {
-  out << "Work-precision (window " << num(r.window.start_s) << " s + " << num(r.window.duration_s)
-      << " s of the trajectory; errors against the reference run)\n";
-  out << std::left << std::setw(7) << "scene" << std::setw(8) << "solver" << std::setw(44)
-      << "settings" << std::right << std::setw(8) << "N" << std::setw(9) << "links"
-      << std::setw(11) << "wall s/s" << std::setw(10) << "cpu s/s" << std::setw(11) << "F rms"
-      << std::setw(11) << "F peak" << std::setw(10) << "removed" << std::setw(8) << "iters"
-      << "\n";
-  for (const WorkPoint& p : r.points) {
-    out << std::left << std::setw(7) << p.scene << std::setw(8) << p.solver << std::setw(44)
-        << p.settings << std::right << std::setw(8) << p.particles << std::setw(9) << p.links
-        << std::setw(11) << num(p.wall_s_per_sim_s) << std::setw(10) << num(p.cpu_s_per_sim_s)
-        << std::setw(11) << num(p.force_rms_error) << std::setw(11) << num(p.force_peak_error)
-        << std::setw(10) << num(p.removed_error) << std::setw(8) << num(p.mean_iterations)
-        << (p.failed ? "  FAILED" : "") << "\n";
-  }
-  out << "\nScaling (" << r.scaling_scene
-      << ", every particle awake, blade in the material; CPU time per step)\n";
-  out << std::right << std::setw(8) << "h mm" << std::setw(9) << "N" << std::setw(12)
-      << "wall ms" << std::setw(11) << "cpu ms" << std::setw(8) << "iters" << std::setw(16)
-      << "us/iter/part" << "\n";
-  for (const ScalingPoint& p : r.scaling)
-    out << std::setw(8) << num(p.spacing_m * 1e3) << std::setw(9) << p.particles
-        << std::setw(12) << num(p.wall_ms_per_step) << std::setw(11) << num(p.cpu_ms_per_step)
-        << std::setw(8) << num(p.mean_iterations) << std::setw(16)
-        << num(p.cpu_us_per_iteration_per_particle) << "\n";
-  out << "fit: cost ~ N^" << num(r.scaling_fit.exponent) << " (r2 " << num(r.scaling_fit.r2)
-      << "); per PCG iteration ~ N^" << num(r.per_iteration_fit.exponent) << "\n";
-  out << "\nSkips (" << r.skips_scene << "; on = the default; error of on against off)\n";
-  out << std::left << std::setw(18) << "skip" << std::right << std::setw(12) << "on cpu s/s"
-      << std::setw(13) << "off cpu s/s" << std::setw(8) << "gain" << std::setw(11) << "F rms"
-      << std::setw(10) << "removed" << "\n";
-  for (const SkipResult& s : r.skips) {
-    out << std::left << std::setw(18) << s.name << std::right;
-    if (!s.measured) {
-      out << "  not measured\n";
-      continue;
-    }
-    const bool wall = s.name == "headless";
-    out << std::setw(12) << num(wall ? s.on_wall_s_per_sim_s : s.on_cpu_s_per_sim_s)
-        << std::setw(13) << num(wall ? s.off_wall_s_per_sim_s : s.off_cpu_s_per_sim_s)
-        << std::setw(8) << num(s.gain) << std::setw(11) << num(s.force_rms_error)
-        << std::setw(10) << num(s.removed_error) << (wall ? "  (wall time)" : "") << "\n";
-  }
-  out << "\nmachine: " << r.machine << "\nbenchmark wall time: " << num(r.wall_s, 4) << " s\n";
-}
-
-void write_csv(const BenchReport& r, std::ostream& f) {
-  f << "kind,scene,solver,settings,particles,links,wall_s_per_sim_s,cpu_s_per_sim_s,"
-       "force_rms_error,force_peak_error,removed_error,mean_iterations,default,reference,"
-       "spacing_m,cpu_ms_per_step,wall_ms_per_step,gain\n";
-  for (const WorkPoint& p : r.points)
-    f << "point," << p.scene << "," << p.solver << ",\"" << p.settings << "\"," << p.particles
-      << "," << p.links << "," << p.wall_s_per_sim_s << "," << p.cpu_s_per_sim_s << ","
-      << p.force_rms_error << "," << p.force_peak_error << "," << p.removed_error << ","
-      << p.mean_iterations << "," << p.is_default << "," << p.is_reference << "," << p.spacing_m
-      << ",,,\n";
-  for (const ScalingPoint& p : r.scaling)
-    f << "scaling," << r.scaling_scene << ",acdr,\"all awake\"," << p.particles << ",,,,,,,"
-      << p.mean_iterations << ",,," << p.spacing_m << "," << p.cpu_ms_per_step << ","
-      << p.wall_ms_per_step << ",\n";
-  for (const SkipResult& s : r.skips) {
-    if (!s.measured) continue;
-    f << "skip," << r.skips_scene << ",acdr,\"" << s.name << " on\",,," << s.on_wall_s_per_sim_s
-      << "," << s.on_cpu_s_per_sim_s << "," << s.force_rms_error << ",," << s.removed_error
-      << ",,,,,,," << s.gain << "\n";
-    f << "skip," << r.skips_scene << ",acdr,\"" << s.name << " off\",,," << s.off_wall_s_per_sim_s
-      << "," << s.off_cpu_s_per_sim_s << ",0,,0,,,,,,,\n";
-  }
-}
-
-nlohmann::json report_json(const BenchReport& r) {
-  nlohmann::json doc;
-  doc["points"] = nlohmann::json::array();
-  for (const WorkPoint& p : r.points) doc["points"].push_back(point_json(p));
-  nlohmann::json scaling;
-  scaling["scene"] = r.scaling_scene;
-  scaling["condition"] = "every particle awake, blade in the material";
-  scaling["points"] = nlohmann::json::array();
-  for (const ScalingPoint& p : r.scaling)
-    scaling["points"].push_back({{"spacing_m", p.spacing_m},
-                                 {"particles", p.particles},
-                                 {"wall_ms_per_step", p.wall_ms_per_step},
-                                 {"cpu_ms_per_step", p.cpu_ms_per_step},
-                                 {"mean_iterations", p.mean_iterations},
-                                 {"cpu_us_per_iteration_per_particle",
-                                  p.cpu_us_per_iteration_per_particle}});
-  scaling["exponent"] = r.scaling_fit.exponent;
-  scaling["r2"] = r.scaling_fit.r2;
-  scaling["per_iteration_exponent"] = r.per_iteration_fit.exponent;
-  doc["scaling"] = scaling;
-  doc["skips"] = nlohmann::json::array();
-  for (const SkipResult& s : r.skips) {
-    nlohmann::json j = {{"name", s.name}, {"description", s.description}, {"measured", s.measured}};
-    if (s.measured) {
-      j["on_wall_s_per_sim_s"] = s.on_wall_s_per_sim_s;
-      j["off_wall_s_per_sim_s"] = s.off_wall_s_per_sim_s;
-      j["on_cpu_s_per_sim_s"] = s.on_cpu_s_per_sim_s;
-      j["off_cpu_s_per_sim_s"] = s.off_cpu_s_per_sim_s;
-      j["gain"] = s.gain;
-      j["force_rms_error"] = s.force_rms_error;
-      j["removed_error"] = s.removed_error;
-    }
-    doc["skips"].push_back(j);
-  }
-  doc["window"] = {{"start_s", r.window.start_s}, {"duration_s", r.window.duration_s}};
-  doc["machine"] = r.machine;
-  doc["wall_s"] = r.wall_s;
-  return doc;
-}
-
-}  // namespace
 
 int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err) {
   BenchConfig config;
   config.quick = options.quick;
+  config.grid = default_grid(options.quick);
   if (options.scenes.empty()) {
+    // The standard scoops: the box demo's blade reaches the material at ~1.9 s; the expert's
+    // cup enters the C4-C5 nucleus at ~1.8 s and sweeps through it from 2.2 s
+    // (content/trajectories/*.waypoints.csv).
     config.scenes.push_back({"box", "scenarios/modules/01_box_warmup.json",
-                             "content/trajectories/box_demo.csv"});
+                             "content/trajectories/box_demo.csv", 1.85});
+    config.scenes.push_back({"c4c5", "scenarios/modules/02_c4c5_healthy.json",
+                             "content/trajectories/c4c5_expert.csv", 2.0});
   }
   for (const std::string& spec : options.scenes) {
     const auto eq = spec.find('=');
@@ -178,8 +38,15 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
       err << "acdr bench: --scene '" << spec << "': expected NAME=SCENARIO.json:TRAJECTORY.csv\n";
       return 2;
     }
+    // NAME=SCENARIO:TRAJECTORY[@START_S]
+    std::string trajectory = spec.substr(colon + 1);
+    double start_s = 0.0;
+    if (const auto at = trajectory.rfind('@'); at != std::string::npos) {
+      start_s = std::atof(trajectory.c_str() + at + 1);
+      trajectory.resize(at);
+    }
     config.scenes.push_back(
-        {spec.substr(0, eq), spec.substr(eq + 1, colon - eq - 1), spec.substr(colon + 1)});
+        {spec.substr(0, eq), spec.substr(eq + 1, colon - eq - 1), trajectory, start_s});
   }
   // Progress: one rewritten line on a terminal, a line per stage otherwise.
   const bool tty = isatty(STDERR_FILENO) != 0;
@@ -218,9 +85,9 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
     return 2;
   }
   if (options.json) {
-    out << report_json(report).dump(2) << "\n";
+    out << bench_report_json(report).dump(2) << "\n";
   } else {
-    write_table(report, out);
+    write_bench_table(report, out);
   }
   if (!options.csv.empty()) {
     std::ofstream f(options.csv);
@@ -228,7 +95,7 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
       err << "acdr bench: cannot write " << options.csv << "\n";
       return 2;
     }
-    write_csv(report, f);
+    write_bench_csv(report, f);
   }
   if (!options.png.empty()) {
     const PlotImage img = plot_work_precision(report);

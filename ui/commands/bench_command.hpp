@@ -16,7 +16,8 @@ struct BenchOptions {
   bool json = false;     ///< JSON on stdout instead of the table
   std::string csv;       ///< also write every figure as CSV here, when set
   std::string png = "bench_work_precision.png";  ///< the work-precision plot; empty: none
-  /// NAME=SCENARIO:TRAJECTORY; empty: the box module on its demonstration trajectory.
+  /// NAME=SCENARIO:TRAJECTORY[@WINDOW_START_S]; empty: the box and the healthy C4-C5 modules on
+  /// their demonstration trajectories.
   std::vector<std::string> scenes;
   bool render = true;    ///< measure the headless skip with an offscreen renderer
 };
