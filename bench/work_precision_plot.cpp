@@ -80,7 +80,8 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
   Canvas c(width, height);
   const Rgb black{20, 20, 20}, grey{215, 215, 215}, dark{120, 120, 120};
   const Rgb ours{31, 119, 180}, peer{214, 39, 40}, mark{44, 160, 44};
-  const int left = 110, right = width - 30, top = 60, bottom = height - 80;
+  const int left = 110, right = std::max(left + 100, width - 290), top = 80,
+            bottom = std::max(top + 100, height - 80);
   constexpr double kFloor = 1e-6;
 
   // Axis ranges (decades) from the points, including x = 1 and y = 0.05.
@@ -169,10 +170,10 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
   c.text(left, 18, "Work-precision: instrument force error vs run time", black, 2);
   const std::string xl = "wall seconds per simulated second";
   c.text((left + right) / 2.0 - c.text_width(xl) / 2.0, bottom + 40, xl, black);
-  c.text(12, top - 30, "force RMS error (relative to the converged reference)", black);
-  const int rows = 2 * static_cast<int>(std::min<std::size_t>(scenes.size(), 2)) + 1;
-  const int lx = right - 270, ly = bottom - 27 * rows - 6;
-  c.rect(lx - 10, ly - 8, right - 8, bottom - 8, Rgb{250, 250, 250});
+  c.text(12, top - 28, "force RMS error (relative to the converged reference)", black);
+  // Legend in the right margin, beside the axes (never over a point).
+  const int lx = right + 24, ly = top + 10;
+
   int row = 0;
   for (std::size_t k = 0; k < scenes.size() && k < 2; ++k) {
     for (bool bullet : {false, true}) {
@@ -182,7 +183,7 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
       ++row;
     }
   }
-  c.text(lx + 20, ly + 27 * row, "ringed: the scene's defaults", black);
+  c.text(lx + 20, ly + 27 * row, "ringed: scene defaults", black);
   (void)dark;
   return c.take();
 }

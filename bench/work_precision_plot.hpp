@@ -21,6 +21,6 @@ struct PlotImage {
 /// Force RMS error (y) against wall seconds per simulated second (x) for every non-reference
 /// point of `report`; errors below 1e-6 are drawn at 1e-6. A dashed line marks real time
 /// (x = 1) and the 5 % error target.
-PlotImage plot_work_precision(const BenchReport& report, int width = 900, int height = 640);
+PlotImage plot_work_precision(const BenchReport& report, int width = 1160, int height = 680);
 
 }  // namespace acdr

@@ -143,8 +143,8 @@ TEST_F(BenchSuiteTest, JsonHasTheIssueKeys) {
 
 TEST_F(BenchSuiteTest, PlotIsAnImage) {
   ASSERT_TRUE(ok_) << error_;
-  const PlotImage img = plot_work_precision(*report_, 400, 300);
-  ASSERT_EQ(img.rgb.size(), 400u * 300u * 3u);
+  const PlotImage img = plot_work_precision(*report_, 800, 500);
+  ASSERT_EQ(img.rgb.size(), 800u * 500u * 3u);
   // Something besides the white background is drawn.
   std::size_t ink = 0;
   for (std::uint8_t v : img.rgb) ink += v < 128;

@@ -24,12 +24,12 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
   config.grid = default_grid(options.quick);
   if (options.scenes.empty()) {
     // The standard scoops: the box demo's blade reaches the material at ~1.9 s; the expert's
-    // cup enters the C4-C5 nucleus at ~1.8 s and sweeps through it from 2.2 s
+    // cup meets the C4-C5 nucleus at ~1.7 s (force peaks at ~2.0 s) and sweeps through it from 2.2 s
     // (content/trajectories/*.waypoints.csv).
     config.scenes.push_back({"box", "scenarios/modules/01_box_warmup.json",
                              "content/trajectories/box_demo.csv", 1.85});
     config.scenes.push_back({"c4c5", "scenarios/modules/02_c4c5_healthy.json",
-                             "content/trajectories/c4c5_expert.csv", 2.0});
+                             "content/trajectories/c4c5_expert.csv", 1.8});
   }
   for (const std::string& spec : options.scenes) {
     const auto eq = spec.find('=');
