@@ -206,7 +206,7 @@ BenchGrid default_grid(bool quick) {
   g.spacing_factors = {2.0};
   g.peer_iterations = {2, 8};
   g.peer_on_anatomy = false;
-  g.scaling_spacings_m = {1.7e-3, 1.0e-3, 0.7e-3, 0.46e-3};
+  g.scaling_spacings_m = {1.7e-3, 1.0e-3, 0.7e-3, 0.45e-3};
   g.scaling_warmup_steps = 2;
   g.scaling_timed_steps = 4;
   g.skip_lead_s = 0.1;
@@ -334,10 +334,13 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
     // The peer, on the reference's instrument path, at the same lattice (one node per
     // particle, one link per bond).
     const bool peer = grid.peer_on_anatomy || !base.anatomy.enabled;
-    for (int it : peer ? grid.peer_iterations : std::vector<int>{}) {
+    const std::vector<int> sweep =
+        !peer ? std::vector<int>{}
+              : (base.anatomy.enabled ? grid.anatomy_peer_iterations : grid.peer_iterations);
+    for (int it : sweep) {
       jobs.push_back(
           {sc.scene.name + ": bullet piterations=" + std::to_string(it),
-           steps * (0.3 + 0.1 * it), [&, it, h](const auto& progress) {
+           steps * (0.3 + 0.1 * it) * (base.anatomy.enabled ? 30.0 : 1.0), [&, it, h](const auto& progress) {
              PeerSettings ps;
              ps.dt_s = 1e-3;
              ps.position_iterations = it;
