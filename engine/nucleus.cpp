@@ -56,6 +56,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <cstring>
 
 #include "engine/state_hash.hpp"
@@ -372,6 +373,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   near_colliders_.assign(n, 0);
   all_colliders_.assign(n, 0);
   walls_.resize(kMaxWallHitsPerParticle * n + 16);
+  site_cache_.assign(kMaxWallHitsPerParticle * n, SiteSums{});
+  site_cache_next_.assign(n, 0);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -916,22 +919,14 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         w.visc = e.visc_t * Eigen::Matrix3d::Identity();
         w.visc(face_axis, face_axis) = e.visc_n;
       } else if (d < wall_range) {
-        const double d_eff = std::max(d, 0.25 * h_);
-        for (std::size_t o = 0; o < site_offset_.size(); ++o) {
-          // sd(site) >= d - |offset|: a site that far cannot be occupied.
-          if (d - site_len_[o] >= 0.5 * h_) continue;
-          const Vec3 q = xi + site_offset_[o];
-          Vec3 nq;
-          const double sd = signed_distance(c, q, &nq);
-          double slope = 0.0;
-          const double occ = occupancy(sd, h_, &slope);
-          if (occ <= 0.0) continue;
-          density_[k] += occ * site_w_[o];
-          second_moment_[k] += occ * site_wv_[o] * site_r2_[o];
-          w.grad += (slope * site_w_[o] / n0_) * nq;
-          const Vec3 u = site_offset_[o] / site_len_[o];
-          w.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
-        }
+        // The sums depend on where the particle is relative to the solid only (cached).
+        const SiteSums sums = solver_.wall_sum_cache
+                                  ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
+                                  : site_sums(c, xi, d);
+        density_[k] += sums.n;
+        second_moment_[k] += sums.s2;
+        w.grad = sums.grad;
+        w.visc = sums.visc;
       }
       grad_sum += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
@@ -996,6 +991,58 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       con_v_[slot] = vc;
     }
   }
+}
+
+// Wall sums of collider c's lattice sites around a particle at x, d from its surface: each
+// site within R counts with its occupancy (see setup_walls).
+Nucleus::SiteSums Nucleus::site_sums(const Collider& c, const Vec3& x, double d) const {
+  SiteSums sums;
+  const double d_eff = std::max(d, 0.25 * h_);
+  for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+    // sd(site) >= d - |offset|: a site that far cannot be occupied.
+    if (d - site_len_[o] >= 0.5 * h_) continue;
+    Vec3 nq;
+    const double sd = signed_distance(c, x + site_offset_[o], &nq);
+    double slope = 0.0;
+    const double occ = occupancy(sd, h_, &slope);
+    if (occ <= 0.0) continue;
+    sums.n += occ * site_w_[o];
+    sums.s2 += occ * site_wv_[o] * site_r2_[o];
+    sums.grad += (slope * site_w_[o] / n0_) * nq;
+    const Vec3 u = site_offset_[o] / site_len_[o];
+    sums.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
+  }
+  return sums;
+}
+
+// site_sums of collider `kc` (index over statics then moving) for particle i at x, from the
+// cache while i's position in the collider's frame has moved less than the tolerance and the
+// collider has turned less than the tolerance over R since they were computed: the sums are
+// a function of that relative placement only (a translated collider carries its sums along;
+// the lattice of sites is world-aligned, hence the turn limit).
+Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
+                                            const Vec3& x, double d) {
+  const double tol = solver_.wall_sum_cache_tolerance * h_;
+  const double turn = solver_.wall_sum_cache_tolerance * h_ / radius_;  // rad
+  const Vec3 local = c.pose.inverse_apply(x);
+  SiteSums* entries = &site_cache_[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];
+  SiteSums* slot = nullptr;
+  for (int e = 0; e < kMaxWallHitsPerParticle; ++e) {
+    if (entries[e].collider == kc) slot = &entries[e];
+  }
+  if (slot) {
+    const bool placed = (local - slot->local).squaredNorm() < tol * tol;
+    const bool turned = !(std::abs(c.pose.orientation.dot(slot->orientation)) > std::cos(0.5 * turn));
+    if (placed && !turned) return *slot;
+  } else {
+    slot = &entries[site_cache_next_[i]];  // round robin over the particle's entries
+    site_cache_next_[i] = static_cast<std::uint8_t>((site_cache_next_[i] + 1) % kMaxWallHitsPerParticle);
+  }
+  *slot = site_sums(c, x, d);
+  slot->collider = kc;
+  slot->local = local;
+  slot->orientation = c.pose.orientation;
+  return *slot;
 }
 
 // Whether particle x at distance d sees collider c as one axis-aligned flat face within the

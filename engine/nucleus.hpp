@@ -144,6 +144,10 @@ class Nucleus {
     double visc_n = 0.0;  // no-slip tensor, normal component
     double visc_t = 0.0;  // no-slip tensor, tangential components
   };
+  struct SiteSums;
+  SiteSums site_sums(const Collider& c, const Vec3& x, double d) const;
+  SiteSums cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i, const Vec3& x,
+                            double d);
   bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
   void build_wall_table();
   WallTableEntry wall_table_at(double d) const;
@@ -310,6 +314,20 @@ class Nucleus {
     bool contact;           // a velocity constraint in the solve
   };
   std::vector<WallHit> walls_;
+  // Collider site sums (see SolverConfig::wall_sum_cache): per particle up to
+  // kMaxWallHitsPerParticle entries, each valid while the particle's place relative to its
+  // collider stays within the tolerance.
+  struct SiteSums {
+    std::int32_t collider = -1;  // collider index (statics, then moving), -1: empty
+    Vec3 local = Vec3::Zero();   // particle in the collider's frame when computed, m
+    Quat orientation = Quat::Identity();  // collider orientation when computed
+    double n = 0.0;              // density share
+    double s2 = 0.0;             // second-moment share, m^2
+    Vec3 grad = Vec3::Zero();    // density gradient share, 1/m
+    Eigen::Matrix3d visc = Eigen::Matrix3d::Zero();  // no-slip tensor
+  };
+  std::vector<SiteSums> site_cache_;         // kMaxWallHitsPerParticle x N
+  std::vector<std::uint8_t> site_cache_next_;  // N, entry to replace next
   std::size_t wall_count_ = 0;
   static constexpr int kMaxMoving = 16;
   std::array<Pose, kMaxMoving> end_pose_;  // moving collider poses at the end of the step

@@ -136,6 +136,14 @@ struct SolverConfig {
   /// within reach of the particle (exact: a box farther away cannot hold a surface nearer).
   /// Off only to measure what the skip saves (acdr bench).
   bool contact_culling = true;
+  /// The wall sums a particle gets from a collider's lattice sites (density, second moment,
+  /// no-slip tensor; dozens of distance queries) are kept while the particle's place relative
+  /// to the collider stays within `wall_sum_cache_tolerance` x spacing (and the collider
+  /// turns less than that over the interaction radius): resting material by the box walls or
+  /// bone, and material carried on the instrument, skip the queries for a sub-percent lag in
+  /// those sums. Off to measure the skip (acdr bench).
+  bool wall_sum_cache = true;
+  double wall_sum_cache_tolerance = 0.005;
 };
 
 /// Region whose particles count as still in place; a particle that leaves it is removed.

@@ -66,7 +66,7 @@ TEST(ScenarioLoader, BoxModuleLoadsWithSiValues) {
   EXPECT_NEAR(w.box.wall_thickness_m, 0.002, kTol);
 
   ASSERT_TRUE(w.nucleus.enabled);
-  EXPECT_NEAR(w.nucleus.spacing_m, 0.001, kTol);
+  EXPECT_NEAR(w.nucleus.spacing_m, 0.002, kTol);
   EXPECT_DOUBLE_EQ(w.nucleus.bond_radius_factor, 1.5);
   ASSERT_EQ(w.nucleus.materials.size(), 1u);
   const MaterialConfig& mat = w.nucleus.materials[0];
@@ -367,7 +367,7 @@ TEST(ScenarioLoader, EveryBundledModuleLoads) {
 // Each kind of error
 
 TEST(ScenarioLoaderErrors, UnknownKeySuggestsTheNearestKnownKey) {
-  const std::string text = replace_once(box_module_text(), "\"spacing_mm\": 1", "\"spacnig_mm\": 1");
+  const std::string text = replace_once(box_module_text(), "\"spacing_mm\": 2", "\"spacnig_mm\": 2");
   const auto errors = errors_of(text);
   ASSERT_EQ(errors.size(), 1u) << to_string(errors);
   EXPECT_EQ(errors[0].to_string(),
@@ -419,7 +419,7 @@ TEST(ScenarioLoaderErrors, WrongTypeInsideAVector) {
 }
 
 TEST(ScenarioLoaderErrors, OutOfRangeGivesTheBoundsInTheFileUnit) {
-  const std::string text = replace_once(box_module_text(), "\"spacing_mm\": 1", "\"spacing_mm\": -1");
+  const std::string text = replace_once(box_module_text(), "\"spacing_mm\": 2", "\"spacing_mm\": -1");
   const auto errors = errors_of(text);
   const ScenarioError* e = find_error(errors, "/world/nucleus/spacing_mm");
   ASSERT_NE(e, nullptr);
@@ -534,7 +534,7 @@ TEST(ScenarioLoaderErrors, CrossChecks) {
   ASSERT_NE(e, nullptr);
   EXPECT_NE(e->message.find("does not contain nucleus block 0"), std::string::npos);
   // Too fine a lattice for the block sizes.
-  errors = errors_of(replace_once(box_module_text(), "\"spacing_mm\": 1", "\"spacing_mm\": 0.1"));
+  errors = errors_of(replace_once(box_module_text(), "\"spacing_mm\": 2", "\"spacing_mm\": 0.1"));
   e = find_error(errors, "/world/nucleus/blocks");
   ASSERT_NE(e, nullptr);
   EXPECT_NE(e->message.find("too many particles"), std::string::npos);
