@@ -197,20 +197,20 @@ std::string describe_machine() {
 BenchGrid default_grid(bool quick) {
   BenchGrid g;
   if (!quick) return g;
-  // Quick: 0.15 s windows of the scoops, two steps, two tolerances, one coarser lattice, two
+  // Quick: 0.3 s windows of the scoops, two steps, two tolerances, one coarser lattice, two
   // peer sweeps (box only), four lattices for the scaling with few steps, short skip runs.
-  g.window_s = 0.15;
+  g.window_s = 0.3;
   g.reference_tolerance = 1e-5;
   g.dts_s = {1e-3, 2e-3};
   g.tolerances = {1e-2, 1e-4};
-  g.spacing_factors = {2.0};
+  g.spacing_factors = {1.5};
   g.peer_iterations = {2, 8};
   g.peer_on_anatomy = false;
   g.scaling_spacings_m = {1.7e-3, 1.0e-3, 0.7e-3, 0.45e-3};
   g.scaling_warmup_steps = 2;
   g.scaling_timed_steps = 4;
-  g.skip_lead_s = 0.1;
-  g.skip_window_s = 0.2;
+  g.skip_lead_s = 0.3;
+  g.skip_window_s = 0.7;
   return g;
 }
 
