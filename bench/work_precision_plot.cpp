@@ -93,7 +93,8 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
     ymin = std::min(ymin, std::max(kFloor, p.force_rms_error));
     ymax = std::max(ymax, std::max(kFloor, p.force_rms_error));
   }
-  const int ex0 = static_cast<int>(std::floor(std::log10(std::max(xmin, 1e-4))));
+  // At least a decade left of real time, so the real-time line stands clear of the axis.
+  const int ex0 = std::min(-1, static_cast<int>(std::floor(std::log10(std::max(xmin, 1e-4)))));
   const int ex1 = static_cast<int>(std::ceil(std::log10(std::max(xmax, 1e-4)))) + (xmax == xmin ? 1 : 0);
   const int ey0 = static_cast<int>(std::floor(std::log10(ymin)));
   const int ey1 = std::max(ey0 + 1, static_cast<int>(std::ceil(std::log10(ymax))));
@@ -177,9 +178,13 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
   int row = 0;
   for (std::size_t k = 0; k < scenes.size() && k < 2; ++k) {
     for (bool bullet : {false, true}) {
+      bool any = false;
+      for (const WorkPoint& p : report.points)
+        any = any || (p.scene == scenes[k] && (p.solver == "bullet") == bullet);
+      if (!any) continue;
       const double y = ly + 27 * row + 7;
       marker(lx + 6, y, bullet, static_cast<int>(k));
-      c.text(lx + 20, y - 7, (bullet ? "Bullet btSoftBody, " : "acdr, ") + scenes[k], black);
+      c.text(lx + 20, y - 7, (bullet ? "Bullet, " : "acdr, ") + scenes[k], black);
       ++row;
     }
   }
