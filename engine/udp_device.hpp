@@ -66,6 +66,7 @@ class UdpDevice final : public InputDevice {
   void render_force(const Vec3& force_N) override;
   /// Sends attempt-over to the bridge (three copies, as UDP may drop one).
   void finish(const char* reason) override;
+  bool live() const override { return true; }
 
   UdpDeviceStats stats() const;
 

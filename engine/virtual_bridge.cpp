@@ -1,6 +1,7 @@
 // Virtual haptic device on the bridge protocol.
 #include "engine/virtual_bridge.hpp"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -148,7 +149,8 @@ VirtualBridgeResult VirtualBridge::run(const std::atomic<bool>* stop) {
       return true;
     }
     Pose pose = trajectory_.at(t);
-    if (options_.nan_at_s >= 0 && t >= options_.nan_at_s && t < options_.nan_at_s + 0.5 * dt)
+    if (options_.nan_at_s >= 0 && t >= options_.nan_at_s &&
+        t < options_.nan_at_s + std::max(0.5 * dt, options_.nan_for_s))
       pose.position.x() = std::numeric_limits<double>::quiet_NaN();
     if (options_.jump_at_s >= 0 && t >= options_.jump_at_s &&
         t < options_.jump_at_s + options_.jump_for_s)

@@ -34,6 +34,7 @@ struct VirtualBridgeOptions {
   double silence_at_s = -1.0;      ///< >= 0: send nothing from here ...
   double silence_for_s = 0.0;      ///< ... for this long
   double nan_at_s = -1.0;          ///< >= 0: one pose with NaN position at this time
+  double nan_for_s = 0.0;          ///< > 0: NaN poses for this long from nan_at_s
   double jump_at_s = -1.0;         ///< >= 0: from here, poses are offset by jump_m along x ...
   double jump_for_s = 0.02;        ///< ... for this long (a glitch; shorter than the settle time)
   double jump_m = 0.05;

@@ -12,20 +12,81 @@ HapticLoopOptions with_scenario_rate(HapticLoopOptions options, const ScenarioMo
 
 }  // namespace
 
+bool LiveAttempt::DeviceLink::sample(double, DeviceSample& out) {
+  const bool fresh = samples.read([&](const DeviceSample& s) { out = s; }, &seen_);
+  if (fresh) consumed_position_ = out.pose.position;
+  return fresh;
+}
+
+void LiveAttempt::DeviceLink::render_force(const Vec3& force_N) {
+  // After the last step the reader may be waited for; during the attempt a busy lock only
+  // skips one hand-over.
+  forces.try_publish([&](PhysicsForce& f) {
+    f.force_N = force_N;
+    f.device_position_m = consumed_position_;
+    f.valid = true;
+  });
+}
+
 LiveAttempt::LiveAttempt(const ScenarioModel& scenario, World& world, InputDevice& device,
                          HapticLoopOptions options)
     : world_(world),
-      stepper_(scenario, world, device),
-      loop_(with_scenario_rate(options, scenario)) {}
+      device_(device),
+      decoupled_(device.live()),
+      link_(decoupled_ ? std::make_unique<DeviceLink>(device) : nullptr),
+      stepper_(scenario, world, decoupled_ ? static_cast<InputDevice&>(*link_) : device),
+      loop_(with_scenario_rate(options, scenario)) {
+  if (decoupled_) {
+    // The device loop keeps the requested rate (1 kHz by default) whatever the scene's step;
+    // the physics loop is paced at the scenario's rate.
+    HapticLoopOptions device_options = options;
+    if (device_options.rate_hz <= 0) device_options.rate_hz = HapticLoopOptions{}.rate_hz;
+    device_loop_ = std::make_unique<HapticLoop>(device_options);
+    local_ = std::make_unique<HapticLocalModel>(scenario.world.device,
+                                                scenario.world.coupling.stiffness_N_m,
+                                                1.0 / device_options.rate_hz);
+    device_sample_.pose = scenario.world.instrument_start;
+  }
+}
 
 LiveAttempt::~LiveAttempt() {
   request_stop();
   loop_.join();
+  if (device_loop_) {
+    device_loop_->request_stop();
+    device_loop_->join();
+  }
 }
 
 void LiveAttempt::start() {
   started_ = true;
+  if (decoupled_) {
+    device_start_ = std::chrono::steady_clock::now();
+    device_loop_->start([this] { return device_tick(); });
+  }
   loop_.start([this] { return tick(); });
+}
+
+// Device loop: the newest pose to the physics, the local model's force to the device.
+bool LiveAttempt::device_tick() {
+  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                 device_start_).count();
+  if (device_.sample(t, device_sample_))
+    link_->samples.try_publish([&](DeviceSample& s) { s = device_sample_; });
+  PhysicsForce physics;
+  link_->forces.read([&](const PhysicsForce& f) { physics = f; });
+  const LocalForce f = local_->force(physics, device_sample_.pose.position, device_sample_.stale);
+  device_.render_force(f.force_N);
+  if (f.clamped) clamped_ticks_.fetch_add(1, std::memory_order_relaxed);
+  if (f.zeroed) zeroed_ticks_.fetch_add(1, std::memory_order_relaxed);
+  if (loop_.finished()) {
+    device_.render_force(Vec3::Zero());
+    return false;
+  }
+  // A sample the physics has not seen yet (end, disconnect) is handed over until it is.
+  if (device_sample_.end || device_sample_.disconnected)
+    link_->samples.publish([&](DeviceSample& s) { s = device_sample_; });
+  return true;
 }
 
 void LiveAttempt::fill(LiveView& view) const {
@@ -64,6 +125,7 @@ bool LiveAttempt::latest(LiveView& out) {
 
 AttemptRun LiveAttempt::wait() {
   loop_.join();
+  if (device_loop_) device_loop_->join();
   waited_ = true;
   return stepper_.finish(loop_.stats().wall_s);
 }

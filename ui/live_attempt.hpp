@@ -1,14 +1,21 @@
-// An attempt stepped live on the haptic thread (engine/haptic_loop.hpp) at the scenario's
-// rate, paced by the clock, while other threads watch it: the trainee view draws the newest
+// An attempt stepped live at the scenario's rate, paced by the clock, while other threads
+// watch it. With a live device (a UDP bridge, the mouse) two threads run: the device loop at
+// 1 kHz (poses in, forces out through engine/haptic_local_model.hpp) and the physics loop at
+// the scenario's rate, which falls behind real time honestly (reported) when a step costs
+// more than its period, without slowing the device loop. A replay steps on one thread (the
+// device is the recording). Watchers: the trainee view draws the newest
 // published view at ~60 Hz, and a headless run just waits. The haptic thread publishes a view
 // only when one has been asked for, and only if the reader is not copying the previous one
 // at that moment (a try-lock), so rendering never blocks physics.
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "engine/haptic_local_model.hpp"
 #include "engine/haptic_loop.hpp"
 #include "engine/latest_value.hpp"
 #include "ui/attempt_runner.hpp"
@@ -55,16 +62,52 @@ class LiveAttempt {
   /// Waits for the attempt to end and closes it (metrics, score). Call once.
   AttemptRun wait();
 
-  /// The loop's achieved rate and periods (live or final).
-  HapticLoopStats haptic_stats() const { return loop_.stats(); }
+  /// The device loop's achieved rate and periods (live or final); the physics loop's when
+  /// both are one (replay).
+  HapticLoopStats haptic_stats() const { return decoupled_ ? device_loop_->stats() : loop_.stats(); }
+  /// The physics loop's rate and step times (live or final).
+  HapticLoopStats physics_stats() const { return loop_.stats(); }
+  /// True when the device has its own loop (a live device).
+  bool decoupled() const { return decoupled_; }
+  /// Device ticks whose force was clamped, or zeroed for stale, non-finite or jumped input.
+  std::int64_t device_clamped_ticks() const { return clamped_ticks_.load(); }
+  std::int64_t device_zeroed_ticks() const { return zeroed_ticks_.load(); }
 
  private:
+  /// The physics side's view of the device: the newest sample the device loop handed over,
+  /// and the force each step computes handed back to it.
+  class DeviceLink final : public InputDevice {
+   public:
+    explicit DeviceLink(InputDevice& device) : device_(device) {}
+    bool sample(double t_s, DeviceSample& out) override;
+    void render_force(const Vec3& force_N) override;
+    void finish(const char* reason) override { device_.finish(reason); }
+
+    LatestValue<DeviceSample> samples;  ///< written by the device loop
+    LatestValue<PhysicsForce> forces;   ///< written by the physics loop
+
+   private:
+    InputDevice& device_;
+    std::uint64_t seen_ = 0;
+    Vec3 consumed_position_ = Vec3::Zero();
+  };
+
   bool tick();
+  bool device_tick();
   void fill(LiveView& view) const;
 
   const World& world_;
+  InputDevice& device_;
+  const bool decoupled_;
+  std::unique_ptr<DeviceLink> link_;  ///< decoupled only
   AttemptStepper stepper_;
-  HapticLoop loop_;
+  HapticLoop loop_;  ///< the physics loop (and the device's, when not decoupled)
+  std::unique_ptr<HapticLoop> device_loop_;
+  std::unique_ptr<HapticLocalModel> local_;
+  DeviceSample device_sample_;  ///< device loop only
+  std::chrono::steady_clock::time_point device_start_;
+  std::atomic<std::int64_t> clamped_ticks_{0};
+  std::atomic<std::int64_t> zeroed_ticks_{0};
   LatestValue<LiveView> view_;
   std::atomic<bool> view_wanted_{true};
   std::atomic<bool> stop_requested_{false};

@@ -31,6 +31,7 @@ class MouseInstrumentDevice final : public InputDevice {
   void request_end();
 
   bool sample(double t_s, DeviceSample& out) override;
+  bool live() const override { return true; }
 
  private:
   mutable std::mutex mutex_;  ///< held only to copy a pose

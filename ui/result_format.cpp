@@ -37,6 +37,20 @@ nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
   // What actually left for the device: the link's own count when there is one.
   j["max_force_sent_N"] = h.has_link ? h.link.max_force_sent_N : max_feedback;
   j["device_max_force_N"] = run.record.summary.device_max_force_N;
+  if (h.decoupled) {
+    // The physics loop, paced at the scenario's rate: below it when a step costs more than
+    // its period (the device loop above keeps its rate regardless).
+    j["physics"] = {{"rate_hz", h.physics.rate_hz},
+                    {"target_rate_hz", h.physics.target_rate_hz},
+                    {"step_mean_ms", h.physics.work_mean_ms},
+                    {"step_p99_ms", h.physics.work_p99_ms},
+                    {"overruns", h.physics.overruns},
+                    {"resyncs", h.physics.resyncs},
+                    {"ticks", h.physics.ticks}};
+    j["device_ticks_clamped"] = h.device_ticks_clamped;
+    j["device_ticks_zeroed"] = h.device_ticks_zeroed;
+  }
+  j["decoupled"] = h.decoupled;
   if (h.has_link) {
     j["link"] = {{"bridge", h.link.bridge},
                  {"packets_received", h.link.packets_received},
@@ -166,6 +180,14 @@ std::string result_summary(const ResultContext& c) {
                   "%lld overruns\n",
                   h.rate_hz, h.target_rate_hz, h.period_p99_ms, static_cast<long long>(h.overruns));
     s += line;
+    if (c.haptics->decoupled) {
+      const HapticLoopStats& p = c.haptics->physics;
+      std::snprintf(line, sizeof line,
+                    "  physics loop           %8.1f Hz (target %.0f), step mean %.3f ms, p99 "
+                    "%.3f ms\n",
+                    p.rate_hz, p.target_rate_hz, p.work_mean_ms, p.work_p99_ms);
+      s += line;
+    }
     if (c.haptics->has_link) {
       const UdpDeviceStats& l = c.haptics->link;
       std::snprintf(line, sizeof line,

@@ -16,7 +16,11 @@ namespace acdr {
 /// How a live device drove the attempt: the haptic loop's achieved rate and the link's figures
 /// (the UDP bridge's, when there was one).
 struct HapticsReport {
-  HapticLoopStats loop;
+  HapticLoopStats loop;     ///< the device loop (the only loop for a replay)
+  bool decoupled = false;   ///< the physics had a loop of its own (a live device)
+  HapticLoopStats physics;  ///< that loop, when decoupled
+  std::int64_t device_ticks_clamped = 0;  ///< device-loop forces clamped to the maximum
+  std::int64_t device_ticks_zeroed = 0;   ///< device-loop forces zeroed (stale/NaN/jump)
   bool has_link = false;
   UdpDeviceStats link;
 };

@@ -84,5 +84,55 @@ TEST(LiveAttempt, StopsWhenAskedWithTheReasonGiven) {
   }
 }
 
+
+// A live device (a hand on it): samples on demand, remembers what it was told to render and
+// from which thread.
+class FakeHand final : public InputDevice {
+ public:
+  explicit FakeHand(const Pose& start) : pose_(start) {}
+  bool sample(double, DeviceSample& out) override {
+    out.pose = pose_;
+    ++polls_;
+    out.end = polls_ >= 300;  // about 0.3 s of device ticks
+    return true;
+  }
+  void render_force(const Vec3& f) override {
+    forces_.push_back(f);
+    thread_ = std::this_thread::get_id();
+  }
+  bool live() const override { return true; }
+  const std::vector<Vec3>& forces() const { return forces_; }
+  std::thread::id thread() const { return thread_; }
+
+ private:
+  Pose pose_;
+  int polls_ = 0;
+  std::vector<Vec3> forces_;
+  std::thread::id thread_;
+};
+
+TEST(LiveAttempt, ALiveDeviceGetsItsOwnLoopAndEndsThePhysicsWithIt) {
+  const auto scenario = empty_box();
+  World world(scenario->world);
+  FakeHand hand(scenario->world.instrument_start);
+  LiveAttempt live(*scenario, world, hand);
+  EXPECT_TRUE(live.decoupled());
+  live.start();
+  const AttemptRun run = live.wait();
+  EXPECT_EQ(run.end, AttemptEnd::kInputEnded);
+  // Every device tick rendered a force, from the device loop's thread (not this one).
+  const HapticLoopStats device = live.haptic_stats();
+  const HapticLoopStats physics = live.physics_stats();
+  EXPECT_GE(static_cast<std::int64_t>(hand.forces().size()), device.ticks);
+  EXPECT_NE(hand.thread(), std::this_thread::get_id());
+  EXPECT_GT(physics.ticks, 0);
+  EXPECT_EQ(physics.ticks, world.step_count());
+  for (const Vec3& f : hand.forces()) {
+    EXPECT_TRUE(f.allFinite());
+    EXPECT_LE(f.norm(), scenario->world.device.max_force_N);
+  }
+  EXPECT_EQ(hand.forces().back(), Vec3::Zero());  // released at the end
+}
+
 }  // namespace
 }  // namespace acdr

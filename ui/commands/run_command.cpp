@@ -158,9 +158,8 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
       return 2;
     }
     if (!decision.value().unlocked) {
-      err << "module '" << scenario.id << "' is locked for trainee '" << *options.trainee
-          << "': " << decision.value().reason
-          << " (an instructor may allow it with --override --override-by NAME)\n";
+      // The reason already names the module, the trainee and what is missing.
+      err << decision.value().reason << " with --override --override-by NAME\n";
       return 4;
     }
   }
@@ -232,13 +231,17 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     live = true;
   } else {
     if (udp) {
-      // A live device: step on the haptic thread at the scenario's rate, paced by the clock.
+      // A live device: its own 1 kHz loop, the physics at the scenario's rate, both paced.
       HapticLoopOptions loop;
       loop.realtime_priority = options.realtime;
       LiveAttempt attempt(scenario, world, *device, loop);
       attempt.start();
       run = attempt.wait();
       haptics.loop = attempt.haptic_stats();
+      haptics.decoupled = attempt.decoupled();
+      haptics.physics = attempt.physics_stats();
+      haptics.device_ticks_clamped = attempt.device_clamped_ticks();
+      haptics.device_ticks_zeroed = attempt.device_zeroed_ticks();
       live = true;
     } else {
       run = run_attempt(scenario, world, *device);
