@@ -39,25 +39,11 @@ BenchConfig tiny_config() {
   return c;
 }
 
-class BenchSuiteTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    report_ = new BenchReport();
-    std::string error;
-    ok_ = run_bench_suite(tiny_config(), report_, &error);
-    error_ = error;
-  }
-  static void TearDownTestSuite() { delete report_; }
-  static BenchReport* report_;
-  static bool ok_;
-  static std::string error_;
-};
-BenchReport* BenchSuiteTest::report_ = nullptr;
-bool BenchSuiteTest::ok_ = false;
-std::string BenchSuiteTest::error_;
+// One run of the tiny benchmark serves every check below (ctest runs each TEST in its own
+// process, so separate tests would each pay for the run).
+const BenchReport* report_ = nullptr;
 
-TEST_F(BenchSuiteTest, RunsAndHoldsEveryPart) {
-  ASSERT_TRUE(ok_) << error_;
+void check_parts() {
   // Reference, 2 dts x 1 tolerance, the scene's own settings, one coarser lattice, one peer.
   std::set<std::string> solvers;
   int references = 0, defaults = 0;
@@ -87,8 +73,7 @@ TEST_F(BenchSuiteTest, RunsAndHoldsEveryPart) {
   EXPECT_FALSE(report_->skips[3].measured);  // headless: no renderer given
 }
 
-TEST_F(BenchSuiteTest, ReferenceHasZeroErrorAndTheRestAreFinite) {
-  ASSERT_TRUE(ok_) << error_;
+void check_errors() {
   for (const WorkPoint& p : report_->points) {
     SCOPED_TRACE(p.solver + " " + p.settings);
     EXPECT_TRUE(std::isfinite(p.force_rms_error));
@@ -114,8 +99,7 @@ TEST_F(BenchSuiteTest, ReferenceHasZeroErrorAndTheRestAreFinite) {
   EXPECT_TRUE(std::isfinite(report_->scaling_fit.exponent));
 }
 
-TEST_F(BenchSuiteTest, JsonHasTheIssueKeys) {
-  ASSERT_TRUE(ok_) << error_;
+void check_json() {
   const nlohmann::json j = bench_report_json(*report_);
   ASSERT_TRUE(j.contains("points"));
   ASSERT_TRUE(j.contains("scaling"));
@@ -141,14 +125,37 @@ TEST_F(BenchSuiteTest, JsonHasTheIssueKeys) {
   EXPECT_GE(rows, 1u + report_->points.size() + report_->scaling.size());
 }
 
-TEST_F(BenchSuiteTest, PlotIsAnImage) {
-  ASSERT_TRUE(ok_) << error_;
+void check_plot() {
   const PlotImage img = plot_work_precision(*report_, 800, 500);
   ASSERT_EQ(img.rgb.size(), 800u * 500u * 3u);
   // Something besides the white background is drawn.
   std::size_t ink = 0;
   for (std::uint8_t v : img.rgb) ink += v < 128;
   EXPECT_GT(ink, 1000u);
+}
+
+TEST(BenchSuite, TinyBoxRunHoldsEveryPartWithZeroReferenceErrorAndTheIssueKeys) {
+  BenchReport report;
+  std::string error;
+  ASSERT_TRUE(run_bench_suite(tiny_config(), &report, &error)) << error;
+  report_ = &report;
+  {
+    SCOPED_TRACE("parts");
+    check_parts();
+  }
+  {
+    SCOPED_TRACE("errors");
+    check_errors();
+  }
+  {
+    SCOPED_TRACE("json, table, csv");
+    check_json();
+  }
+  {
+    SCOPED_TRACE("plot");
+    check_plot();
+  }
+  report_ = nullptr;
 }
 
 TEST(FitPower, RecoversAnExponent) {
