@@ -228,23 +228,23 @@ std::optional<int> ObjectReader::integer(const std::string& key, Need need, cons
   return i;
 }
 
-std::optional<double> ObjectReader::quantity(const std::vector<UnitKey>& spellings, Need need,
-                                             const Range& si_range) {
+// Records every spelling of one quantity (a key per unit) for the schema and finds the one the
+// object uses. False when there is nothing to read: the object is absent, the key is missing
+// (reported when required), or two spellings are given at once (reported).
+bool ObjectReader::pick_spelling(const std::vector<UnitKey>& spellings, Need need,
+                                 const char* json_type, int items, const Range& si_range,
+                                 const std::string& expected, const UnitKey** chosen,
+                                 const json** value) {
   std::vector<std::string> names;
   for (const UnitKey& u : spellings) names.push_back(u.key);
   groups_.push_back(names);
-  std::string expected = "a number";
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    const UnitKey& u = spellings[i];
-    expected += (i == 0 ? " in " : i + 1 == names.size() ? ", or in " : ", in ");
-    expected += std::string(u.symbol) + " as " + in_quotes(u.key);
-  }
-  // Record each spelling; find which are present.
-  const UnitKey* chosen = nullptr;
-  const json* value = nullptr;
+  *chosen = nullptr;
+  *value = nullptr;
   for (const UnitKey& u : spellings) {
-    KeyInfo info = key_info(child_pattern(u.key), "number", false, need == Need::kRequired && names.size() > 1);
+    KeyInfo info = key_info(child_pattern(u.key), json_type, false,
+                            need == Need::kRequired && names.size() > 1);
     if (names.size() == 1) info.required = need == Need::kRequired;
+    if (items > 0) info.min_items = info.max_items = items;
     set_bounds(info, si_range, u.to_si);
     for (const std::string& other : names) {
       if (other != u.key) info.alternatives.push_back(other);
@@ -252,23 +252,41 @@ std::optional<double> ObjectReader::quantity(const std::vector<UnitKey>& spellin
     ctx_->record(info);
     remember(u.key);
     if (object_ != nullptr && object_->contains(u.key)) {
-      if (chosen != nullptr) {
-        ctx_->error(child(u.key), "give either " + in_quotes(chosen->key) + " or " + in_quotes(u.key) +
+      if (*chosen != nullptr) {
+        ctx_->error(child(u.key), "give either " + in_quotes((*chosen)->key) + " or " +
+                                      in_quotes(u.key) +
                                       ", not both (they are the same quantity in different units)");
-        return std::nullopt;
+        return false;
       }
-      chosen = &u;
-      value = &object_->at(u.key);
+      *chosen = &u;
+      *value = &object_->at(u.key);
     }
   }
-  if (object_ == nullptr) return std::nullopt;
-  if (chosen == nullptr) {
+  if (object_ == nullptr) return false;
+  if (*chosen == nullptr) {
     if (need != Need::kOptional) {
       ctx_->error_located(child(names.front()), pointer_,
                           "missing required key (expected " + expected + ")");
     }
-    return std::nullopt;
+    return false;
   }
+  return true;
+}
+
+std::optional<double> ObjectReader::quantity(const std::vector<UnitKey>& spellings, Need need,
+                                             const Range& si_range) {
+  std::vector<std::string> names;
+  for (const UnitKey& u : spellings) names.push_back(u.key);
+  std::string expected = "a number";
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const UnitKey& u = spellings[i];
+    expected += (i == 0 ? " in " : i + 1 == names.size() ? ", or in " : ", in ");
+    expected += std::string(u.symbol) + " as " + in_quotes(u.key);
+  }
+  const UnitKey* chosen = nullptr;
+  const json* value = nullptr;
+  if (!pick_spelling(spellings, need, "number", 0, si_range, expected, &chosen, &value))
+    return std::nullopt;
   if (!is_number(*value)) {
     ctx_->error(child(chosen->key), "wrong type (got " + describe_value(*value) + ", expected a number in " +
                                         chosen->symbol + ")");
@@ -284,7 +302,6 @@ std::optional<Vec3> ObjectReader::vector3(const std::vector<UnitKey>& spellings,
                                           const Range& si_range) {
   std::vector<std::string> names;
   for (const UnitKey& u : spellings) names.push_back(u.key);
-  groups_.push_back(names);
   std::string expected = "[x, y, z]";
   for (std::size_t i = 0; i < names.size(); ++i) {
     const UnitKey& u = spellings[i];
@@ -293,34 +310,8 @@ std::optional<Vec3> ObjectReader::vector3(const std::vector<UnitKey>& spellings,
   }
   const UnitKey* chosen = nullptr;
   const json* value = nullptr;
-  for (const UnitKey& u : spellings) {
-    KeyInfo info = key_info(child_pattern(u.key), "array", false, need == Need::kRequired && names.size() > 1);
-    if (names.size() == 1) info.required = need == Need::kRequired;
-    info.min_items = info.max_items = 3;
-    set_bounds(info, si_range, u.to_si);
-    for (const std::string& other : names) {
-      if (other != u.key) info.alternatives.push_back(other);
-    }
-    ctx_->record(info);
-    remember(u.key);
-    if (object_ != nullptr && object_->contains(u.key)) {
-      if (chosen != nullptr) {
-        ctx_->error(child(u.key), "give either " + in_quotes(chosen->key) + " or " + in_quotes(u.key) +
-                                      ", not both (they are the same quantity in different units)");
-        return std::nullopt;
-      }
-      chosen = &u;
-      value = &object_->at(u.key);
-    }
-  }
-  if (object_ == nullptr) return std::nullopt;
-  if (chosen == nullptr) {
-    if (need != Need::kOptional) {
-      ctx_->error_located(child(names.front()), pointer_,
-                          "missing required key (expected " + expected + ")");
-    }
+  if (!pick_spelling(spellings, need, "array", 3, si_range, expected, &chosen, &value))
     return std::nullopt;
-  }
   const std::string key = chosen->key;
   const std::string unit_phrase =
       chosen->symbol[0] != '\0' ? std::string(" in ") + chosen->symbol : std::string();

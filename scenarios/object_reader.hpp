@@ -123,6 +123,9 @@ class ObjectReader {
   void finish();
 
  private:
+  bool pick_spelling(const std::vector<UnitKey>& spellings, Need need, const char* json_type,
+                     int items, const Range& si_range, const std::string& expected,
+                     const UnitKey** chosen, const nlohmann::json** value);
   const nlohmann::json* lookup(const std::string& key, Need need, const std::string& expected);
   void remember(const std::string& key);
   std::string child_pattern(const std::string& key) const;

@@ -61,7 +61,14 @@ RenderCamera frame_work_area(const World& world, const Frame& frame, const Rende
       box.extend(c.pose.apply(local));
     }
   }
-  for (const auto& p : scene.particles.positions) box.extend(p.cast<double>());
+  // Material near the walls belongs to the work area; a few stray particles flung far away
+  // should not shrink the whole scene to a corner of the picture.
+  const Eigen::AlignedBox3d walls = box;
+  const double near_walls = 0.015;  // m
+  for (const auto& p : scene.particles.positions) {
+    const Vec3 x = p.cast<double>();
+    if (walls.isEmpty() || walls.exteriorDistance(x) < near_walls) box.extend(x);
+  }
   if (const InstrumentGeometry* instrument = world.instrument()) {
     const Pose grip = frame.instrument;
     const double reach = 0.3 * instrument->config().shaft_length_m;
