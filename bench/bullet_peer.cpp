@@ -11,6 +11,7 @@
 #include <cmath>
 #include <memory>
 
+#include "engine/anatomy.hpp"
 #include "engine/instrument.hpp"
 #include "engine/nucleus.hpp"
 #include "engine/rigid_world.hpp"
@@ -34,11 +35,14 @@ btTransform to_bt(const Pose& p) {
   return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), to_bt(p.position));
 }
 
-/// A Bullet shape for one of our colliders (world units mm). The cup shell has no Bullet
-/// counterpart; it becomes the sphere around it (said so in the report).
+/// A Bullet shape for one of our colliders (world units mm), or null when it has no convex
+/// counterpart here: the bone's distance grid (kSdfGrid) is built from the anatomy's meshes
+/// instead (bone_mesh_shape). The cup shell has no Bullet counterpart; it becomes the sphere
+/// around it (said so in docs/performance.md).
 btCollisionShape* make_shape(const Collider& c) {
   btCollisionShape* s = nullptr;
   switch (c.kind) {
+    case ColliderKind::kSdfGrid: return nullptr;
     case ColliderKind::kBox: s = new btBoxShape(to_bt(c.half_extents_m)); break;
     case ColliderKind::kCapsule:
       s = new btCapsuleShapeZ(c.radius_m * kMm, 2.0 * c.half_length_m * kMm);
@@ -50,20 +54,31 @@ btCollisionShape* make_shape(const Collider& c) {
   return s;
 }
 
-/// Pose along the path at time t after the start (linear in position, slerp in orientation).
-Pose path_at(const Pose& start, const std::vector<Pose>& path, double sample_s, double t) {
-  if (path.empty()) return start;
-  const double u = t / sample_s;  // path[k] is at (k + 1) * sample_s
-  const double k_f = std::floor(u);
-  const auto k = static_cast<long>(k_f);
-  if (k >= static_cast<long>(path.size())) return path.back();
-  const Pose& a = k <= 0 ? start : path[k - 1];
-  const Pose& b = path[std::max<long>(k, 0)];
-  const double w = std::clamp(u - k_f, 0.0, 1.0);
-  Pose p;
-  p.position = (1.0 - w) * a.position + w * b.position;
-  p.orientation = a.orientation.slerp(w, b.orientation);
-  return p;
+/// Static triangle-mesh shape of one vertebra, in millimetres (the peer's world unit, where
+/// Bullet's 0.002-unit BVH box floor is 2 um; engine/rigid_world.cpp does the same for the
+/// instrument). `vertices` and `indices` must outlive the shape.
+struct BoneMesh {
+  std::vector<btScalar> vertices;
+  std::vector<int> indices;
+  std::unique_ptr<btTriangleIndexVertexArray> array;
+  std::unique_ptr<btBvhTriangleMeshShape> shape;
+};
+
+std::unique_ptr<BoneMesh> bone_mesh_shape(const TriangleMesh& mesh) {
+  auto out = std::make_unique<BoneMesh>();
+  out->vertices.reserve(3 * mesh.vertices.size());
+  for (const Vec3& v : mesh.vertices)
+    for (int k = 0; k < 3; ++k) out->vertices.push_back(static_cast<btScalar>(v[k] * kMm));
+  out->indices.reserve(3 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    for (std::uint32_t i : t) out->indices.push_back(static_cast<int>(i));
+  out->array = std::make_unique<btTriangleIndexVertexArray>(
+      static_cast<int>(mesh.triangles.size()), out->indices.data(),
+      static_cast<int>(3 * sizeof(int)), static_cast<int>(mesh.vertices.size()),
+      out->vertices.data(), static_cast<int>(3 * sizeof(btScalar)));
+  out->shape = std::make_unique<btBvhTriangleMeshShape>(out->array.get(), true);
+  out->shape->setMargin(0.01);
+  return out;
 }
 
 }  // namespace
@@ -76,8 +91,14 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
   RunTrace out;
   const double dt = settings.dt_s;
 
-  // The same lattice and bonds as our nucleus: build one and read them back.
-  const std::vector<Collider> statics = build_static_colliders(config);
+  // The same lattice and bonds as our nucleus: build one and read them back. With anatomy the
+  // lattice is filled around the bone's distance grid, as in the World.
+  std::vector<Collider> statics = build_static_colliders(config);
+  std::unique_ptr<Anatomy> anatomy;
+  if (config.anatomy.enabled) {
+    anatomy = std::make_unique<Anatomy>(config.anatomy);
+    statics.push_back(anatomy->bone_collider());
+  }
   const Nucleus lattice(config.nucleus, config.solver, config.gravity_m_s2, statics);
   const std::size_t n = lattice.particle_count();
   const auto x0 = lattice.positions();
@@ -108,13 +129,29 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> bodies;
   std::vector<std::unique_ptr<btMotionState>> motions;
+  std::vector<std::unique_ptr<BoneMesh>> bone;
   for (const Collider& c : statics) {
-    shapes.emplace_back(make_shape(c));
+    btCollisionShape* shape = make_shape(c);
+    if (!shape) continue;  // the bone: its meshes below
+    shapes.emplace_back(shape);
     Pose p = c.pose;
     motions.emplace_back(new btDefaultMotionState(to_bt(p)));
     btRigidBody::btRigidBodyConstructionInfo ci(0.0, motions.back().get(), shapes.back().get());
     bodies.emplace_back(new btRigidBody(ci));
     world->addRigidBody(bodies.back().get(), kGroupStatic, kGroupSoft);
+  }
+
+  // Bone: both vertebrae as static BVH triangle meshes. The soft body meets them through
+  // Bullet's soft-concave algorithm (a per-triangle convex shape and sparse distance field).
+  if (anatomy) {
+    for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5}) {
+      bone.push_back(bone_mesh_shape(anatomy->vertebra(level)));
+      motions.emplace_back(new btDefaultMotionState(btTransform::getIdentity()));
+      btRigidBody::btRigidBodyConstructionInfo ci(0.0, motions.back().get(),
+                                                  bone.back()->shape.get());
+      bodies.emplace_back(new btRigidBody(ci));
+      world->addRigidBody(bodies.back().get(), kGroupStatic, kGroupSoft);
+    }
   }
 
   // Instrument: a compound of its colliders, heavy, no gravity, touching only the soft body.
@@ -124,7 +161,9 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
     auto* compound = new btCompoundShape();
     shapes.emplace_back(compound);
     for (const Collider& c : geometry.local_colliders()) {
-      shapes.emplace_back(make_shape(c));
+      btCollisionShape* shape = make_shape(c);
+      if (!shape) continue;
+      shapes.emplace_back(shape);
       compound->addChildShape(to_bt(c.pose), shapes.back().get());
     }
     btVector3 inertia(0, 0, 0);
@@ -172,9 +211,9 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
   for (std::int64_t k = 0; k < steps; ++k) {
     const double t = double(k) * dt;
     Vec3 force = Vec3::Zero();
-    Pose now = path_at(start, path, window.sample_s, t);
+    Pose now = pose_on_path(start, path, window.sample_s, t);
     if (instrument) {
-      const Pose next = path_at(start, path, window.sample_s, t + dt);
+      const Pose next = pose_on_path(start, path, window.sample_s, t + dt);
       const Vec3 v = (next.position - now.position) / dt;
       Quat dq = next.orientation * now.orientation.conjugate();
       if (dq.w() < 0) dq.coeffs() *= -1.0;
@@ -205,7 +244,7 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
     if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt) {
       out.t_s.push_back(boundary);
       out.force_N.push_back(f_sum / f_count);
-      out.instrument.push_back(path_at(start, path, window.sample_s, t_rel));
+      out.instrument.push_back(pose_on_path(start, path, window.sample_s, t_rel));
       f_sum = Vec3::Zero();
       f_count = 0;
     }

@@ -14,6 +14,21 @@ double thread_cpu_s() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
+Pose pose_on_path(const Pose& start, const std::vector<Pose>& path, double sample_s, double t) {
+  if (path.empty()) return start;
+  const double u = t / sample_s;
+  const double k_f = std::floor(u);
+  const auto k = static_cast<long>(k_f);
+  if (k >= static_cast<long>(path.size())) return path.back();
+  const Pose& a = k <= 0 ? start : path[k - 1];
+  const Pose& b = path[std::max<long>(k, 0)];
+  const double w = std::clamp(u - k_f, 0.0, 1.0);
+  Pose p;
+  p.position = (1.0 - w) * a.position + w * b.position;
+  p.orientation = a.orientation.slerp(w, b.orientation);
+  return p;
+}
+
 WorldConfig apply_settings(const WorldConfig& base, const RunSettings& s) {
   WorldConfig c = base;
   if (s.dt_s > 0.0) c.solver.dt_s = s.dt_s;
@@ -49,9 +64,13 @@ RunTrace run_scene(const WorldConfig& config_in, const Trajectory& trajectory,
   double iterations = 0.0, active = 0.0;
   Vec3 f_sum = Vec3::Zero();
   int f_count = 0;
-  const auto start = Clock::now();
-  const double cpu_start = thread_cpu_s();
+  auto start = Clock::now();
+  double cpu_start = thread_cpu_s();
   for (std::int64_t k = 0; k < steps; ++k) {
+    if (k == window.warmup_steps && k > 0) {
+      start = Clock::now();
+      cpu_start = thread_cpu_s();
+    }
     const double t_rel = double(k + 1) * dt;
     sample.t_s = t0 + t_rel;
     sample.pose = trajectory.at(t0 + t_rel);
@@ -82,6 +101,7 @@ RunTrace run_scene(const WorldConfig& config_in, const Trajectory& trajectory,
   out.cpu_s = thread_cpu_s() - cpu_start;
   out.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   out.steps = world.step_count();
+  out.timed_steps = std::max<std::int64_t>(0, out.steps - window.warmup_steps);
   out.sim_s = world.time_s();
   out.mean_iterations = out.steps > 0 ? iterations / out.steps : 0.0;
   out.mean_active = out.steps > 0 ? active / out.steps : 0.0;

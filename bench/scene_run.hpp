@@ -36,6 +36,8 @@ struct RunWindow {
   /// steps are compared at the same instants and over the same spans. 10 ms holds a whole
   /// number of steps for dt = 0.25, 0.5, 1, 2 ms.
   double sample_s = 0.01;
+  /// Steps run before the timing starts (warm-up; their forces still count).
+  int warmup_steps = 0;
 };
 
 /// What a run produced.
@@ -48,10 +50,11 @@ struct RunTrace {
   std::size_t particles = 0;
   std::size_t bonds = 0;
   double sim_s = 0.0;               ///< simulated time
-  double wall_s = 0.0;              ///< wall time of the stepping loop
+  double wall_s = 0.0;              ///< wall time of the stepping loop (after the warm-up)
   double cpu_s = 0.0;               ///< CPU time of this thread in the loop (robust on a shared machine)
   double max_step_wall_s = 0.0;     ///< slowest single step, wall
   std::int64_t steps = 0;
+  std::int64_t timed_steps = 0;     ///< steps after the warm-up (those wall_s and cpu_s cover)
   double mean_iterations = 0.0;
   double mean_active = 0.0;
   StageTimes stages;
@@ -70,5 +73,9 @@ RunTrace run_scene(const WorldConfig& config, const Trajectory& trajectory,
 
 /// CPU time of the calling thread, s.
 double thread_cpu_s();
+
+/// Pose along a recorded path at time t after its start: path[k] is the pose at
+/// (k + 1) * sample_s, `start` the pose at 0; linear in position, slerp in orientation.
+Pose pose_on_path(const Pose& start, const std::vector<Pose>& path, double sample_s, double t);
 
 }  // namespace acdr

@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "ui/commands/bench_command.hpp"
 #include "ui/commands/dashboard_command.hpp"
 #include "ui/commands/device_sim_command.hpp"
 #include "ui/commands/make_trajectory_command.hpp"
@@ -144,6 +145,20 @@ int main(int argc, char** argv) {
   stress_cmd->add_flag("--json", stress.json, "Print the results as JSON");
   stress_cmd->add_flag("--fast", stress.fast, "Coarser particles and shorter holds");
   stress_cmd->callback([&] { code = acdr::run_stress(stress, std::cout, std::cerr); });
+
+  // --- acdr bench (issue 5: performance) ---
+  acdr::BenchOptions bench;
+  auto* bench_cmd = app.add_subcommand(
+      "bench", "Work-precision benchmark: run time against error, Bullet soft-body peer, "
+               "scaling with particle count, skips");
+  bench_cmd->add_flag("--quick", bench.quick, "Small grid on a coarser lattice (< 2 minutes)");
+  bench_cmd->add_option("--csv", bench.csv, "Also write every figure as CSV");
+  bench_cmd->add_flag("--json", bench.json, "Print the results as JSON");
+  bench_cmd->add_option("--png", bench.png, "Work-precision plot (PNG; empty string: none)");
+  bench_cmd->add_option("--scene", bench.scenes,
+                        "NAME=SCENARIO.json:TRAJECTORY.csv[@WINDOW_START_S] (default: the box and healthy C4-C5 modules)");
+  bench_cmd->callback([&] { code = acdr::run_bench(bench, std::cout, std::cerr); });
+  // --- end acdr bench ---
 
   // acdr render
   acdr::RenderOptions render;

@@ -1,0 +1,161 @@
+// Table, CSV and JSON of a benchmark report.
+#include "bench/bench_report_format.hpp"
+
+#include <iomanip>
+#include <sstream>
+
+namespace acdr {
+namespace {
+
+std::string num(double v, int precision = 3) {
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+nlohmann::json point_json(const WorkPoint& p) {
+  nlohmann::json settings = {{"dt_s", p.dt_s}, {"spacing_m", p.spacing_m}};
+  if (p.solver == "acdr") {
+    settings["tolerance"] = p.tolerance;
+  } else {
+    settings["position_iterations"] = p.iterations;
+    settings["link_stiffness"] = p.link_stiffness;
+  }
+  return {{"scene", p.scene},
+          {"solver", p.solver},
+          {"settings", settings},
+          {"label", p.settings},
+          {"particles", p.particles},
+          {"links", p.links},
+          {"wall_s_per_sim_s", p.wall_s_per_sim_s},
+          {"cpu_s_per_sim_s", p.cpu_s_per_sim_s},
+          {"force_rms_error", p.force_rms_error},
+          {"force_peak_error", p.force_peak_error},
+          {"removed_error", p.removed_error},
+          {"mean_iterations", p.mean_iterations},
+          {"mean_active", p.mean_active},
+          {"default", p.is_default},
+          {"reference", p.is_reference},
+          {"failed", p.failed}};
+}
+
+}  // namespace
+
+void write_bench_table(const BenchReport& r, std::ostream& out) {
+  out << "Work-precision (errors against each scene's reference run; windows:";
+  for (const auto& [scene, w] : r.windows)
+    out << " " << scene << " " << num(w.start_s) << " s + " << num(w.duration_s) << " s";
+  out << ")\n";
+  out << std::left << std::setw(7) << "scene" << std::setw(8) << "solver" << std::setw(44)
+      << "settings" << std::right << std::setw(8) << "N" << std::setw(9) << "links"
+      << std::setw(11) << "wall s/s" << std::setw(10) << "cpu s/s" << std::setw(11) << "F rms"
+      << std::setw(11) << "F peak" << std::setw(10) << "removed" << std::setw(8) << "iters"
+      << "\n";
+  for (const WorkPoint& p : r.points) {
+    out << std::left << std::setw(7) << p.scene << std::setw(8) << p.solver << std::setw(44)
+        << p.settings << std::right << std::setw(8) << p.particles << std::setw(9) << p.links
+        << std::setw(11) << num(p.wall_s_per_sim_s) << std::setw(10) << num(p.cpu_s_per_sim_s)
+        << std::setw(11) << num(p.force_rms_error) << std::setw(11) << num(p.force_peak_error)
+        << std::setw(10) << num(p.removed_error) << std::setw(8) << num(p.mean_iterations)
+        << (p.failed ? "  FAILED" : "") << "\n";
+  }
+  out << "\nScaling (" << r.scaling_scene
+      << ", every particle awake, blade in the material; CPU time per step)\n";
+  out << std::right << std::setw(8) << "h mm" << std::setw(9) << "N" << std::setw(12)
+      << "wall ms" << std::setw(11) << "cpu ms" << std::setw(8) << "iters" << std::setw(16)
+      << "us/iter/part" << "\n";
+  for (const ScalingPoint& p : r.scaling)
+    out << std::setw(8) << num(p.spacing_m * 1e3) << std::setw(9) << p.particles
+        << std::setw(12) << num(p.wall_ms_per_step) << std::setw(11) << num(p.cpu_ms_per_step)
+        << std::setw(8) << num(p.mean_iterations) << std::setw(16)
+        << num(p.cpu_us_per_iteration_per_particle) << "\n";
+  out << "fit: cost ~ N^" << num(r.scaling_fit.exponent) << " (r2 " << num(r.scaling_fit.r2)
+      << "); per PCG iteration ~ N^" << num(r.per_iteration_fit.exponent) << "\n";
+  out << "\nSkips (" << r.skips_scene << "; on = the default; error of on against off)\n";
+  out << std::left << std::setw(18) << "skip" << std::right << std::setw(12) << "on cpu s/s"
+      << std::setw(13) << "off cpu s/s" << std::setw(8) << "gain" << std::setw(11) << "F rms"
+      << std::setw(10) << "removed" << "\n";
+  for (const SkipResult& s : r.skips) {
+    out << std::left << std::setw(18) << s.name << std::right;
+    if (!s.measured) {
+      out << "  not measured\n";
+      continue;
+    }
+    const bool wall = s.name == "headless";
+    out << std::setw(12) << num(wall ? s.on_wall_s_per_sim_s : s.on_cpu_s_per_sim_s)
+        << std::setw(13) << num(wall ? s.off_wall_s_per_sim_s : s.off_cpu_s_per_sim_s)
+        << std::setw(8) << num(s.gain) << std::setw(11) << num(s.force_rms_error)
+        << std::setw(10) << num(s.removed_error) << (wall ? "  (wall time)" : "") << "\n";
+  }
+  out << "\nmachine: " << r.machine << "\nbenchmark wall time: " << num(r.wall_s, 4) << " s\n";
+}
+
+void write_bench_csv(const BenchReport& r, std::ostream& f) {
+  f << "kind,scene,solver,settings,particles,links,wall_s_per_sim_s,cpu_s_per_sim_s,"
+       "force_rms_error,force_peak_error,removed_error,mean_iterations,default,reference,"
+       "spacing_m,cpu_ms_per_step,wall_ms_per_step,gain\n";
+  for (const WorkPoint& p : r.points)
+    f << "point," << p.scene << "," << p.solver << ",\"" << p.settings << "\"," << p.particles
+      << "," << p.links << "," << p.wall_s_per_sim_s << "," << p.cpu_s_per_sim_s << ","
+      << p.force_rms_error << "," << p.force_peak_error << "," << p.removed_error << ","
+      << p.mean_iterations << "," << p.is_default << "," << p.is_reference << "," << p.spacing_m
+      << ",,,\n";
+  for (const ScalingPoint& p : r.scaling)
+    f << "scaling," << r.scaling_scene << ",acdr,\"all awake\"," << p.particles << ",,,,,,,"
+      << p.mean_iterations << ",,," << p.spacing_m << "," << p.cpu_ms_per_step << ","
+      << p.wall_ms_per_step << ",\n";
+  for (const SkipResult& s : r.skips) {
+    if (!s.measured) continue;
+    f << "skip," << r.skips_scene << ",acdr,\"" << s.name << " on\",,," << s.on_wall_s_per_sim_s
+      << "," << s.on_cpu_s_per_sim_s << "," << s.force_rms_error << ",," << s.removed_error
+      << ",,,,,,," << s.gain << "\n";
+    f << "skip," << r.skips_scene << ",acdr,\"" << s.name << " off\",,," << s.off_wall_s_per_sim_s
+      << "," << s.off_cpu_s_per_sim_s << ",0,,0,,,,,,,\n";
+  }
+}
+
+nlohmann::json bench_report_json(const BenchReport& r) {
+  nlohmann::json doc;
+  doc["points"] = nlohmann::json::array();
+  for (const WorkPoint& p : r.points) doc["points"].push_back(point_json(p));
+  nlohmann::json scaling;
+  scaling["scene"] = r.scaling_scene;
+  scaling["condition"] = "every particle awake, blade in the material";
+  scaling["points"] = nlohmann::json::array();
+  for (const ScalingPoint& p : r.scaling)
+    scaling["points"].push_back({{"spacing_m", p.spacing_m},
+                                 {"particles", p.particles},
+                                 {"wall_ms_per_step", p.wall_ms_per_step},
+                                 {"cpu_ms_per_step", p.cpu_ms_per_step},
+                                 {"mean_iterations", p.mean_iterations},
+                                 {"cpu_us_per_iteration_per_particle",
+                                  p.cpu_us_per_iteration_per_particle}});
+  scaling["exponent"] = r.scaling_fit.exponent;
+  scaling["r2"] = r.scaling_fit.r2;
+  scaling["per_iteration_exponent"] = r.per_iteration_fit.exponent;
+  doc["scaling"] = scaling;
+  doc["skips"] = nlohmann::json::array();
+  for (const SkipResult& s : r.skips) {
+    nlohmann::json j = {{"name", s.name}, {"description", s.description}, {"measured", s.measured}};
+    if (s.measured) {
+      j["on_wall_s_per_sim_s"] = s.on_wall_s_per_sim_s;
+      j["off_wall_s_per_sim_s"] = s.off_wall_s_per_sim_s;
+      j["on_cpu_s_per_sim_s"] = s.on_cpu_s_per_sim_s;
+      j["off_cpu_s_per_sim_s"] = s.off_cpu_s_per_sim_s;
+      j["gain"] = s.gain;
+      j["force_rms_error"] = s.force_rms_error;
+      j["removed_error"] = s.removed_error;
+    }
+    doc["skips"].push_back(j);
+  }
+  doc["windows"] = nlohmann::json::object();
+  for (const auto& [scene, w] : r.windows)
+    doc["windows"][scene] = {{"start_s", w.start_s}, {"duration_s", w.duration_s}};
+  doc["quick"] = r.quick;
+  doc["machine"] = r.machine;
+  doc["wall_s"] = r.wall_s;
+  return doc;
+}
+
+
+}  // namespace acdr
