@@ -126,7 +126,6 @@ struct DeviceConfig {
 
 struct SolverConfig {
   double dt_s = 1.0e-3;          ///< fixed step (1 kHz haptic rate)
-  int substeps = 1;
   int max_iterations = 60;       ///< linear solver iterations per substep
   double tolerance = 1.0e-4;     ///< relative residual of the linear solve
   bool sleep_enabled = true;     ///< particles at rest far from the instrument are not integrated

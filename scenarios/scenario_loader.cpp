@@ -562,7 +562,6 @@ void read_device(ObjectReader& r, DeviceConfig& d) {
 
 void read_solver(ObjectReader& r, SolverConfig& s) {
   if (auto v = r.quantity(duration("dt"), Need::kOptional, Range::positive(10e-3))) s.dt_s = *v;
-  if (auto v = r.integer("substeps", Need::kOptional, Range::closed(1, 1000))) s.substeps = *v;
   if (auto v = r.integer("max_iterations", Need::kOptional, Range::closed(1, 10000))) {
     s.max_iterations = *v;
   }

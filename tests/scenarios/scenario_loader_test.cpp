@@ -98,7 +98,6 @@ TEST(ScenarioLoader, BoxModuleLoadsWithSiValues) {
   EXPECT_EQ(w.device.name, "Touch");
   EXPECT_DOUBLE_EQ(w.device.max_force_N, 3.3);
   EXPECT_NEAR(w.solver.dt_s, 1e-3, kTol);
-  EXPECT_EQ(w.solver.substeps, 1);
   EXPECT_TRUE(w.removal.min_m.isApprox(Vec3(-0.015, -0.010, -0.001)));
   EXPECT_TRUE(w.removal.max_m.isApprox(Vec3(0.015, 0.010, 0.012)));
 
@@ -210,7 +209,6 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(w.device.max_jump_m, dd.max_jump_m);
   const SolverConfig& sd = d.world.solver;
   EXPECT_NE(w.solver.dt_s, sd.dt_s);
-  EXPECT_NE(w.solver.substeps, sd.substeps);
   EXPECT_NE(w.solver.max_iterations, sd.max_iterations);
   EXPECT_NE(w.solver.tolerance, sd.tolerance);
   EXPECT_NE(w.solver.sleep_enabled, sd.sleep_enabled);
@@ -338,12 +336,14 @@ TEST(ScenarioLoader, DefaultsApplyWhenKeysAreAbsent) {
 }
 
 TEST(ScenarioLoader, IntegralFloatsCountAsIntegers) {
-  const std::string ok = replace_once(box_module_text(), "\"substeps\": 1", "\"substeps\": 2.0");
+  const std::string with_cap = replace_once(box_module_text(), "\"tolerance\": 0.01",
+                                            "\"tolerance\": 0.01, \"max_iterations\": 40");
+  const std::string ok = replace_once(with_cap, "\"max_iterations\": 40", "\"max_iterations\": 40.0");
   const LoadResult r = load_scenario_text(ok, "m.json");
   ASSERT_TRUE(r.ok()) << to_string(r.errors);
-  EXPECT_EQ(r.model->world.solver.substeps, 2);
-  const auto errors = errors_of(replace_once(box_module_text(), "\"substeps\": 1", "\"substeps\": 1.5"));
-  const ScenarioError* e = find_error(errors, "/world/solver/substeps");
+  EXPECT_EQ(r.model->world.solver.max_iterations, 40);
+  const auto errors = errors_of(replace_once(with_cap, "\"max_iterations\": 40", "\"max_iterations\": 1.5"));
+  const ScenarioError* e = find_error(errors, "/world/solver/max_iterations");
   ASSERT_NE(e, nullptr);
   EXPECT_NE(e->message.find("got 1.5, expected an integer"), std::string::npos) << e->message;
 }
