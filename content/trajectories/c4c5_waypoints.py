@@ -51,7 +51,8 @@ def main(path):
         if line.startswith("#"):
             out.append(line)
             continue
-        t, x, y, z, ro, pi, ya = (float(v) for v in line.split(","))
+        # A row may end in a comment: "t, x, y, z, roll, pitch, yaw   # what it does".
+        t, x, y, z, ro, pi, ya = (float(v) for v in line.split("#")[0].split(","))
         if rows:
             t0, cup0, rpy0 = rows[-1]
             turn = max(abs(a - b) for a, b in zip(rpy0, (ro, pi, ya)))
