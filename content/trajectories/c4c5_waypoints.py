@@ -14,13 +14,17 @@ changes between two rows, intermediate waypoints every 10 degrees keep the cup w
 put it (the grip is interpolated linearly, so one long rotation would swing the cup through the
 anatomy). Lines starting with '#' are copied as comments.
 
-    python3 c4c5_waypoints.py expert_c4c5.cup.csv > c4c5_expert.waypoints.csv
+    python3 c4c5_waypoints.py c4c5_expert.cup.csv > c4c5_expert.waypoints.csv
     build/acdr make-trajectory c4c5_expert.waypoints.csv c4c5_expert.csv
-"""
-import math
-import sys
 
-L_MM = 81.9
+For another curette, give its geometry (the scenario's instrument keys, mm):
+
+    python3 c4c5_waypoints.py --cup 4 --wall 0.4 --shaft 80 rows.cup.csv
+"""
+import argparse
+import math
+
+L_MM = 81.9  # grip to cup centre: shaft + cup radius + wall (set by main from the options)
 
 
 def rotation(roll, pitch, yaw):
@@ -47,7 +51,8 @@ def main(path):
         if line.startswith("#"):
             out.append(line)
             continue
-        t, x, y, z, ro, pi, ya = (float(v) for v in line.split(","))
+        # A row may end in a comment: "t, x, y, z, roll, pitch, yaw   # what it does".
+        t, x, y, z, ro, pi, ya = (float(v) for v in line.split("#")[0].split(","))
         if rows:
             t0, cup0, rpy0 = rows[-1]
             turn = max(abs(a - b) for a, b in zip(rpy0, (ro, pi, ya)))
@@ -63,4 +68,12 @@ def main(path):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    ap = argparse.ArgumentParser(description="grip waypoints from cup-centre rows")
+    ap.add_argument("rows", help="cup-centre CSV: t_s, x, y, z (mm), roll, pitch, yaw (deg)")
+    ap.add_argument("--cup", type=float, default=3.0, help="cup_diameter_mm (default 3)")
+    ap.add_argument("--wall", type=float, default=0.4, help="cup_wall_mm (default 0.4)")
+    ap.add_argument("--shaft", type=float, default=80.0, help="shaft_length_mm (default 80)")
+    args = ap.parse_args()
+    # engine/instrument.cpp: the cup centre lies shaft + cup/2 + wall below the grip.
+    L_MM = args.shaft + 0.5 * args.cup + args.wall
+    main(args.rows)

@@ -3,6 +3,7 @@
 #include "engine/anatomy.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 
@@ -28,7 +29,12 @@ AnatomyConfig coarse(const std::string& cache_dir) {
 class AnatomyTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = (std::filesystem::temp_directory_path() / "acdr_anatomy_test").string();
+    // One directory per test and process: ctest -j runs these tests at the same time, and one
+    // test's TearDown removing a shared directory broke the other's files.
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = (std::filesystem::temp_directory_path() /
+            ("acdr_anatomy_test_" + std::string(info->name()) + "_" + std::to_string(::getpid())))
+               .string();
     std::filesystem::remove_all(dir_);
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }

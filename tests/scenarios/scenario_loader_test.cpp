@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "engine/vertebra_generator.hpp"
 #include "scenarios/content_hash.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"
 
@@ -618,6 +619,38 @@ TEST(ScenarioLoaderAnatomy, BundledModulesLoadWithAnatomy) {
     EXPECT_EQ(w.nucleus.blocks[0].shape, BlockShape::kEllipticCylinder);
     EXPECT_TRUE(w.nucleus.blocks[1].has_cutout);
     EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
+  }
+}
+
+// The table (ground plane) catches material dropped outside the field (without it a particle
+// falls until the engine's blow-up check ends the attempt), and the specimen tray the expert
+// wipes the cup on lies clear of the bone and outside the removal region (what is wiped off
+// counts as removed). Checked against the generated vertebrae of each module's morphometry.
+TEST(ScenarioLoaderAnatomy, TableAndTrayLieClearOfTheBone) {
+  for (const char* m : {"02_c4c5_healthy.json", "03_c4c5_degenerated.json", "04_full_discectomy.json"}) {
+    const LoadResult r = load_scenario_file(test::source_path(std::string("scenarios/modules/") + m));
+    ASSERT_TRUE(r.ok()) << to_string(r.errors);
+    const WorldConfig& w = r.model->world;
+    ASSERT_TRUE(w.ground.enabled) << m;
+    ASSERT_TRUE(w.box.enabled) << m;
+    SegmentParams coarse = w.anatomy.segment;
+    coarse.mesh_spacing_m = 1.0e-3;  // bounds to within a millimetre are enough here
+    const Vec3 tray_lo = w.box.inner_min_m - Vec3::Constant(w.box.wall_thickness_m);
+    const Vec3 tray_hi = w.box.inner_max_m + Vec3::Constant(w.box.wall_thickness_m);
+    for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5}) {
+      const TriangleMesh bone = generate_vertebra(coarse, level);
+      Vec3 lo, hi;
+      bone.bounds(&lo, &hi);
+      EXPECT_LT(w.ground.height_m, lo.z() - 5e-3) << m;
+      std::size_t inside_tray = 0;
+      for (const Vec3& v : bone.vertices)
+        if ((v.array() > tray_lo.array() - 1e-3).all() && (v.array() < tray_hi.array() + 1e-3).all())
+          ++inside_tray;
+      EXPECT_EQ(inside_tray, 0u) << m << ": bone within 1 mm of the tray";
+    }
+    // The whole tray lies outside the removal region (beyond it along some axis).
+    const auto& rr = w.removal;
+    EXPECT_TRUE((tray_lo.array() > rr.max_m.array()).any() || (tray_hi.array() < rr.min_m.array()).any()) << m;
   }
 }
 
