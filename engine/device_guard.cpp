@@ -5,6 +5,18 @@
 #include <cmath>
 
 namespace acdr {
+
+Vec3 clamp_and_slew(const Vec3& requested_N, const Vec3& last_N, double max_N, double max_change_N,
+                    bool* clamped) {
+  Vec3 f = requested_N;
+  const double mag = f.norm();
+  *clamped = mag > max_N;
+  // Scaled a hair below the limit so rounding never leaves it above.
+  if (*clamped) f *= (max_N / mag) * (1.0 - 1e-14);
+  const Vec3 change = f - last_N;
+  if (change.norm() > max_change_N) f = last_N + change * (max_change_N / change.norm());
+  return f;
+}
 namespace {
 
 bool finite_pose(const Pose& p) {
@@ -87,16 +99,8 @@ GuardedForce DeviceGuard::limit(const Vec3& requested_N, double t_s) {
     const double ramp = std::clamp((t_s - ramp_start_s_) / device_.ramp_in_s, 0.0, 1.0);
     f *= ramp;
   }
-  // Clamp to the device's rated maximum.
-  const double mag = f.norm();
-  if (mag > device_.max_force_N) {
-    f *= device_.max_force_N / mag;
-    out.clamped = true;
-  }
-  // Rate limit: the change per step is bounded.
-  const Vec3 change = f - last_force_;
-  const double max_change = device_.max_force_rate_N_s * dt_;
-  if (change.norm() > max_change) f = last_force_ + change * (max_change / change.norm());
+  f = clamp_and_slew(f, last_force_, device_.max_force_N, device_.max_force_rate_N_s * dt_,
+                     &out.clamped);
   last_force_ = f;
   out.force_N = f;
   return out;

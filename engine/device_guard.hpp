@@ -24,6 +24,12 @@ struct GuardedForce {
   double requested_N = 0.0;    ///< magnitude before limiting
 };
 
+/// The device force limits: `requested_N` clamped to `max_N` (never above, not even by
+/// rounding; `clamped` says whether it was hit), then its change from `last_N` bounded by
+/// `max_change_N` (the force-rate limit times the update period).
+Vec3 clamp_and_slew(const Vec3& requested_N, const Vec3& last_N, double max_N, double max_change_N,
+                    bool* clamped);
+
 class DeviceGuard {
  public:
   DeviceGuard(const DeviceConfig& device, const Pose& start, double dt_s);

@@ -1,7 +1,7 @@
 // Local force model of the device loop (see the header).
 #include "engine/haptic_local_model.hpp"
 
-#include <algorithm>
+#include "engine/device_guard.hpp"
 
 namespace acdr {
 
@@ -20,17 +20,8 @@ LocalForce HapticLocalModel::force(const PhysicsForce& physics, const Vec3& devi
     last_ = Vec3::Zero();
     return out;
   }
-  Vec3 f = physics.force_N - k_ * dx;
-  const double magnitude = f.norm();
-  if (magnitude > device_.max_force_N) {
-    // Scaled a hair below the limit so rounding never leaves it above.
-    f *= (device_.max_force_N / magnitude) * (1.0 - 1e-12);
-    out.clamped = true;
-  }
-  // Slew: the change per tick is bounded by the device's force-rate limit.
-  const Vec3 step = f - last_;
-  const double max_step = device_.max_force_rate_N_s * tick_s_;
-  if (step.norm() > max_step) f = last_ + step * (max_step / step.norm());
+  const Vec3 f = clamp_and_slew(physics.force_N - k_ * dx, last_, device_.max_force_N,
+                                device_.max_force_rate_N_s * tick_s_, &out.clamped);
   last_ = f;
   out.force_N = f;
   return out;

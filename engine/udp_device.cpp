@@ -69,6 +69,10 @@ bool UdpDevice::drain(Clock::time_point now) {
       buttons_ = m.buttons;
       have_pose_ = true;
       fresh = true;
+      // A non-finite pose is delivered on its own (the rest waits for the next sample), so the
+      // simulation's guard sees it, rejects it and records it even when the next pose is
+      // already queued behind it.
+      if (!pose_.position.allFinite() || !pose_.orientation.coeffs().allFinite()) break;
     } else if (m.type == bridge::MessageType::kEndOfAttempt) {
       bridge_ = from;
       ++received;
