@@ -718,7 +718,11 @@ void Nucleus::build_pairs() {
     pair_bond_[p] = bond;
     if (bond >= 0 && loose_possible_) bond_in_pair_[bond] = 1;
   };
-  for (std::size_t k = 0; k < na_; ++k) {
+  // The pairs of local particle k from its row. A neighbour numbered below k was paired from
+  // its own side (awake ones before halo ones, halo ones by index; self never appears); one
+  // not numbered yet joins the step with the next local number from `next` (the halo for
+  // awake particles, the outer ring for halo ones).
+  auto pair_row = [&](std::size_t k, std::size_t& next) {
     const std::int32_t i = lg_[k];
     ensure_row(i);
     row_near_[k] = static_cast<std::int32_t>(near_);
@@ -729,46 +733,23 @@ void Nucleus::build_pairs() {
     for (std::int32_t c = 0; c < row_len_[i]; ++c) {
       const std::int32_t j = rj[c];
       std::int32_t lj = local_[j];
-      if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;  // awake, counted from j
-      const Vec3 d = min_image(x_[j] - xi);
-      const double r2 = d.squaredNorm();
-      if (r2 >= R2 || r2 <= 0.0) continue;
-      if (lj < 0) {  // a sleeping neighbour: halo
-        lj = static_cast<std::int32_t>(nh_++);
-        local_[j] = lj;
-        lg_[lj] = j;
-      }
-      emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
-    }
-  }
-  near_awake_ = near_;
-  far_awake_ = far_;
-  nl_ = nh_;
-  for (std::size_t k = na_; k < nh_; ++k) {
-    const std::int32_t i = lg_[k];
-    ensure_row(i);
-    row_near_[k] = static_cast<std::int32_t>(near_);
-    row_far_[k] = static_cast<std::int32_t>(far_);
-    const std::int32_t* rj = row_j_.data() + row_start_[i];
-    const std::int32_t* rb = row_bond_.data() + row_start_[i];
-    const Vec3 xi = x_[i];
-    for (std::int32_t c = 0; c < row_len_[i]; ++c) {
-      const std::int32_t j = rj[c];
-      std::int32_t lj = local_[j];
-      // Awake neighbours were paired from their side, halo ones from the lower index.
-      if (lj >= 0 && lj < static_cast<std::int32_t>(nh_) && lj <= static_cast<std::int32_t>(k))
-        continue;
+      if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;
       const Vec3 d = min_image(x_[j] - xi);
       const double r2 = d.squaredNorm();
       if (r2 >= R2 || r2 <= 0.0) continue;
       if (lj < 0) {
-        lj = static_cast<std::int32_t>(nl_++);
+        lj = static_cast<std::int32_t>(next++);
         local_[j] = lj;
         lg_[lj] = j;
       }
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     }
-  }
+  };
+  for (std::size_t k = 0; k < na_; ++k) pair_row(k, nh_);
+  near_awake_ = near_;
+  far_awake_ = far_;
+  nl_ = nh_;
+  for (std::size_t k = na_; k < nh_; ++k) pair_row(k, nl_);
   row_near_[nh_] = static_cast<std::int32_t>(near_);
   row_far_[nh_] = static_cast<std::int32_t>(far_);
   pairs_ = near_ + far_;

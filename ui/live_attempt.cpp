@@ -16,7 +16,9 @@ bool LiveAttempt::DeviceLink::sample(double, DeviceSample& out) {
   const bool fresh = samples.read([&](const DeviceSample& s) { out = s; }, &seen_);
   if (fresh) {
     consumed_position_ = out.pose.position;
-    fault_pending.store(false, std::memory_order_release);
+    // The faulty pose itself has now reached the physics (its guard records it).
+    if (!out.pose.position.allFinite() || !out.pose.orientation.coeffs().allFinite())
+      fault_pending.store(false, std::memory_order_release);
   }
   return fresh;
 }
@@ -75,17 +77,17 @@ bool LiveAttempt::device_tick() {
   const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() -
                                                  device_start_).count();
   if (device_.sample(t, device_sample_)) {
-    // A non-finite pose lasts one packet: it is handed over even if the physics is busy, and
-    // newer poses wait until the physics has seen it, so its guard rejects it and records it.
+    // Most samples may be skipped when the physics is busy (a newer one follows), but a
+    // non-finite pose lasts one packet and an end or a disconnect must arrive: those are
+    // handed over with a wait. Newer poses then wait until the physics has read the faulty
+    // one, so its guard rejects and records it.
     const bool fault = !device_sample_.pose.position.allFinite() ||
                        !device_sample_.pose.orientation.coeffs().allFinite();
-    if (fault) {
-      // Flag first: the physics clears it when it reads, which must be after the publish.
-      link_->fault_pending.store(true, std::memory_order_release);
+    if (fault) link_->fault_pending.store(true, std::memory_order_release);
+    if (fault || device_sample_.end || device_sample_.disconnected)
       link_->samples.publish([&](DeviceSample& s) { s = device_sample_; });
-    } else if (!link_->fault_pending.load(std::memory_order_acquire)) {
+    else if (!link_->fault_pending.load(std::memory_order_acquire))
       link_->samples.try_publish([&](DeviceSample& s) { s = device_sample_; });
-    }
   }
   PhysicsForce physics;
   link_->forces.read([&](const PhysicsForce& f) { physics = f; });
@@ -97,10 +99,6 @@ bool LiveAttempt::device_tick() {
     device_.render_force(Vec3::Zero());
     return false;
   }
-  // A sample the physics has not seen yet (end, disconnect) is handed over until it is.
-  if ((device_sample_.end || device_sample_.disconnected) &&
-      !link_->fault_pending.load(std::memory_order_acquire))
-    link_->samples.publish([&](DeviceSample& s) { s = device_sample_; });
   return true;
 }
 
