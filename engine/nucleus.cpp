@@ -66,9 +66,6 @@ namespace {
 
 constexpr int kCalmStepsToSleep = 20;   // steps below the sleep speed before sleeping
 constexpr int kMaxWallHitsPerParticle = 4;
-// Normal speed away from a wall (m/s) above which a particle counts as separating from it:
-// no contact constraint, and only the tangential part of the no-slip coupling.
-constexpr double kSeparatingSpeed = 1e-12;
 constexpr double kMaxSpeed_m_s = 100.0;  // above this a particle is reported as a blow-up
 
 /// Density kernel w(r) = (1 - r/R)^3 (the "spiky" shape of Desbrun & Gascuel 1996, used for
@@ -912,24 +909,13 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         w.grad = sums.grad;
         w.visc = sums.visc;
       }
-      // The wall holds a particle against sliding (no-slip) and against squeezing into it, but
-      // not against leaving it: material lifted off or tipped out of a cup comes away instead
-      // of being held by a viscous "suction" as strong as the compression it resists. So a
-      // particle already separating from the wall keeps only the tangential part of the
-      // coupling, (I - n n^T) visc (I - n n^T); one at rest or approaching keeps all of it.
-      if (vn_rel > kSeparatingSpeed) {
-        const Eigen::Matrix3d tangential =
-            Eigen::Matrix3d::Identity() - normal * normal.transpose();
-        w.visc = tangential * w.visc * tangential;
-      }
       grad_sum += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
       // is set to what brings the particle exactly to the contact distance, or to its current
       // normal velocity if that is slower (no pull toward the wall). Penetrating particles are
       // stopped in the normal direction and pushed out by position after the solve.
       w.contact = false;
-      if (awake && d < reach && vn_rel <= kSeparatingSpeed && (d < contact_ || !release_[i]) &&
-          nc < 3) {
+      if (awake && d < reach && vn_rel <= 1e-12 && (d < contact_ || !release_[i]) && nc < 3) {
         const double approach = d > contact_ ? -(d - contact_) / dt : 0.0;
         cn[nc] = normal;
         ct[nc] = vw.dot(normal) + std::max(approach, std::min(vn_rel, 0.0));

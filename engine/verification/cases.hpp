@@ -19,8 +19,6 @@ VerificationCaseSpec lever_feedback_defaults(bool fast);
 std::vector<VerificationRow> run_lever_feedback(const VerificationCaseSpec& spec);
 VerificationCaseSpec lift_equilibrium_defaults(bool fast);
 std::vector<VerificationRow> run_lift_equilibrium(const VerificationCaseSpec& spec);
-VerificationCaseSpec lump_release_defaults(bool fast);
-std::vector<VerificationRow> run_lump_release(const VerificationCaseSpec& spec);
 VerificationCaseSpec bond_break_defaults(bool fast);
 std::vector<VerificationRow> run_bond_break(const VerificationCaseSpec& spec);
 VerificationCaseSpec lump_retention_defaults(bool fast);

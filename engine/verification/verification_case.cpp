@@ -22,7 +22,6 @@ constexpr Kind kKinds[] = {
     {"lever_feedback", verification::lever_feedback_defaults, verification::run_lever_feedback},
     {"lift_equilibrium", verification::lift_equilibrium_defaults,
      verification::run_lift_equilibrium},
-    {"lump_release", verification::lump_release_defaults, verification::run_lump_release},
     {"bond_break", verification::bond_break_defaults, verification::run_bond_break},
     {"lump_retention", verification::lump_retention_defaults, verification::run_lump_retention},
     {"oscillator", verification::oscillator_defaults, verification::run_oscillator},
