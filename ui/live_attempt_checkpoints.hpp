@@ -3,7 +3,9 @@
 //
 // The physics thread copies each step's new frame (and any new events) into a staging buffer
 // (a few hundred bytes per step) and, at each checkpoint time, hands the staging buffer over by
-// swapping it with an empty one under a try-lock: O(1), and it never waits. If the writer has
+// swapping it with an empty one under a try-lock: O(1), it never waits, and it wakes no one
+// (the writer looks every 10 ms, at a priority that never preempts the loops: SCHED_BATCH,
+// nice 10). If the writer has
 // not yet taken the previous hand-over (it is still writing one before it), nothing is handed
 // over this time: the data stays staged and goes with the next one, so nothing is lost and
 // nothing blocks. The writer thread appends what it is given to its own copy of the record
@@ -37,6 +39,7 @@ struct LiveCheckpointStats {
   double handover_max_ms = 0.0;    ///< physics thread: one hand-over (try-lock, swap, notify)
   double write_mean_ms = 0.0;      ///< writer thread: one sink call (encode, metrics, compress,
   double write_max_ms = 0.0;       ///< transaction), per checkpoint
+  bool background_priority = false;  ///< the writer runs at SCHED_BATCH, nice 10 (Linux)
 };
 
 class LiveAttemptCheckpoints {

@@ -314,7 +314,8 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
                                {"largest_frames", c.largest_frames},
                                {"write_mean_ms", c.write_mean_ms},
                                {"write_max_ms", c.write_max_ms},
-                               {"handover_max_ms", c.handover_max_ms}};
+                               {"handover_max_ms", c.handover_max_ms},
+                               {"writer_background_priority", c.background_priority}};
     }
     out << result.dump(2) << "\n";
   } else {

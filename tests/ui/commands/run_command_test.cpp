@@ -262,10 +262,14 @@ TEST(RunCommandUdp, ALiveAttemptCheckpointsBesideItsPhysicsLoop) {
                 static_cast<long long>(c["largest_frames"].get<std::int64_t>()),
                 c["write_mean_ms"].get<double>(), c["write_max_ms"].get<double>(),
                 c["handover_max_ms"].get<double>());
-    // Due every 0.25 s of the 3 s trajectory: each one saved or deferred to the next.
+    // Due every 0.25 s of simulated time (less than the bridge's 3 s when the physics loop
+    // falls behind on a loaded machine), except at the very end: each one saved or deferred.
+    const int due = static_cast<int>(j["duration_s"].get<double>() / 0.25 + 1e-6);
     EXPECT_GE(c["saved"].get<int>(), 3);
     EXPECT_EQ(c["failed"], 0);
-    EXPECT_GE(c["saved"].get<int>() + c["deferred"].get<int>(), 11);
+    EXPECT_GE(c["saved"].get<int>() + c["deferred"].get<int>(), due - 1);
+    EXPECT_LE(c["saved"].get<int>() + c["deferred"].get<int>(), due);
+    EXPECT_TRUE(c["writer_background_priority"].get<bool>());
     EXPECT_GT(c["write_max_ms"].get<double>(), 0.0);
     DbResult<Statement> chunks = db.prepare("SELECT count(*) FROM recording_chunks");
     ASSERT_TRUE(chunks.ok());
