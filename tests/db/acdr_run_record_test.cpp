@@ -222,7 +222,8 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
                           false);
   ASSERT_GT(run, 0);
   const pid_t bridge = spawn({ACDR_EXE, "device-sim", "--port", std::to_string(port),
-                              "--trajectory", trajectory, "--connect-timeout", "20"},
+                              "--trajectory", trajectory, "--connect-timeout", "20",
+                              "--nan-at", "0.15"},  // a rejected pose: an event to keep
                              true);
   ASSERT_GT(bridge, 0);
   // Kill the run once three checkpoints are committed.
@@ -251,7 +252,12 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
       run_program(std::string(ACDR_EXE) + " report --db '" + db_path + "' --format json");
   const nlohmann::json report = nlohmann::json::parse(output);
   ASSERT_EQ(report["attempts"].size(), 1u) << output;
-  EXPECT_EQ(report["attempts"][0]["status"], "aborted");
+  const nlohmann::json& shown = report["attempts"][0];
+  EXPECT_EQ(shown["status"], "aborted");
+  EXPECT_GT(shown["duration_s"].get<double>(), 0.0);
+  EXPECT_FALSE(shown["metrics"].empty());
+  EXPECT_TRUE(shown["score"].is_null());
+  EXPECT_TRUE(shown["passed"].is_null());
 
   AttemptRecord a;
   {
@@ -282,7 +288,12 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
   EXPECT_EQ(*a.duration_s, decoded->frames.back().t_s);
   EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
   EXPECT_GT(*a.metrics.find("tip_path_length_mm"), 0.0);
-  // The stored events are the recording's, in order.
+  std::printf("[ info     ] killed live attempt: %zu frames (%.3f s), %zu events checkpointed\n",
+              decoded->frames.size(), *a.duration_s, decoded->events.size());
+  // The stored (and reported) events are the recording's, in order.
+  EXPECT_EQ(shown["events"].size(), a.events.size());
+  ASSERT_GE(decoded->events.size(), 1u);
+  EXPECT_EQ(decoded->events[0].kind, EventKind::kInputRejected);
   ASSERT_EQ(a.events.size(), decoded->events.size());
   for (std::size_t i = 0; i < a.events.size(); ++i) {
     EXPECT_EQ(a.events[i].kind, event_kind_name(decoded->events[i].kind)) << i;
