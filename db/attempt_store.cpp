@@ -667,6 +667,21 @@ DbStatus update_attempt_assessment(Database& db, std::int64_t attempt_id, const 
   return tx->commit();
 }
 
+DbStatus update_aborted_metrics(Database& db, std::int64_t attempt_id, const Metrics& metrics) {
+  DbResult<Transaction> tx = Transaction::begin(db);
+  if (!tx) return tx.error();
+  DbResult<AttemptStatus> status = read_status(db, attempt_id);
+  if (!status) return status.error();
+  if (status.value() != AttemptStatus::kAborted) {
+    return DbError{attempt_where(db, attempt_id) + "cannot replace its metrics alone: it is " +
+                       attempt_status_name(status.value()) + " (expected aborted)",
+                   0};
+  }
+  // No score terms, gates or reasons, as a checkpoint stores them; score and passed stay NULL.
+  if (DbStatus w = write_assessment(db, attempt_id, metrics, ScoreResult{}); !w) return w;
+  return tx->commit();
+}
+
 DbResult<std::optional<AttemptRecord>> load_attempt(Database& db, std::int64_t attempt_id,
                                                     const AttemptDetail& detail) {
   // A read transaction: the row and its details come from one snapshot even while a writer

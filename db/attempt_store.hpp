@@ -65,6 +65,11 @@ DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(Database& db);
 DbStatus update_attempt_assessment(Database& db, std::int64_t attempt_id, const Metrics& metrics,
                                    const ScoreResult& score);
 
+/// Replaces the metrics of an aborted attempt (re-computed from its checkpointed recording), in
+/// one transaction. It stays aborted, without a score and not passed: an attempt that did not
+/// end is never judged, and never counts toward progression. Only an `aborted` attempt.
+DbStatus update_aborted_metrics(Database& db, std::int64_t attempt_id, const Metrics& metrics);
+
 /// What load_attempt and list_attempts read besides the attempt row.
 struct AttemptDetail {
   bool metrics = true;    ///< metrics and score terms/gates/reasons

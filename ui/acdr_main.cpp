@@ -47,8 +47,9 @@ int main(int argc, char** argv) {
                       "attempt ends as disconnected (default 5)")
       ->check(CLI::PositiveNumber);
   run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s,
-                      "Headless replay: save the attempt so far every this many simulated "
-                      "seconds, so a killed run keeps it (default 5; 0: never)")
+                      "Save the attempt so far every this many simulated seconds, so a "
+                      "killed run keeps it (default 5; 0: never); live runs write it on a "
+                      "thread of their own")
       ->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("--realtime", run.realtime,
                     "Ask for real-time priority for the haptic loop (needs the privilege)");

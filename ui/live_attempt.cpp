@@ -61,10 +61,26 @@ LiveAttempt::~LiveAttempt() {
     device_loop_->request_stop();
     device_loop_->join();
   }
+  if (checkpoints_) checkpoints_->finish(false);
+}
+
+void LiveAttempt::set_checkpoints(double every_s, CheckpointSink sink) {
+  if (started_ || !(every_s > 0) || !sink) return;
+  const double dt = world_.config().solver.dt_s;
+  checkpoints_ = std::make_unique<LiveAttemptCheckpoints>(
+      std::move(sink), stepper_.record().summary,
+      static_cast<std::size_t>(every_s / dt) + 1);
+  // The stepper keeps the schedule (the step that reaches each multiple of every_s); at those
+  // steps the physics thread only stages the new frame and hands the staged part over.
+  stepper_.set_checkpoints(every_s, [this](const CheckpointView& view) {
+    checkpoints_->stage(view.record);
+    return checkpoints_->hand_over(view.t_s);
+  });
 }
 
 void LiveAttempt::start() {
   started_ = true;
+  if (checkpoints_) checkpoints_->start();
   if (decoupled_) {
     device_start_ = std::chrono::steady_clock::now();
     device_loop_->start([this] { return device_tick(); });
@@ -119,6 +135,8 @@ bool LiveAttempt::tick() {
   if (stop_requested_.load(std::memory_order_acquire))
     stepper_.stop(static_cast<AttemptEnd>(stop_reason_.load(std::memory_order_relaxed)));
   const bool more = stepper_.step();
+  // Each step's frame (a few hundred bytes) to the checkpoint staging buffer.
+  if (checkpoints_) checkpoints_->stage(stepper_.record());
   if (!more) {
     // The last view is published even if a reader has to be waited for: stepping is over.
     view_.publish([this](LiveView& v) { fill(v); });
@@ -139,6 +157,10 @@ bool LiveAttempt::latest(LiveView& out) {
 AttemptRun LiveAttempt::wait() {
   loop_.join();
   if (device_loop_) device_loop_->join();
+  // Before the attempt is closed and stored: the writer writes what it was given and ends.
+  // An attempt abandoned before its end keeps only what was checkpointed, so it gets the
+  // rest too; a finished attempt is stored whole right after this.
+  if (checkpoints_) checkpoints_->finish(stepper_.end() == AttemptEnd::kStopped);
   waited_ = true;
   return stepper_.finish(loop_.stats().wall_s);
 }

@@ -6,7 +6,9 @@
 // device is the recording). Watchers: the trainee view draws the newest
 // published view at ~60 Hz, and a headless run just waits. The haptic thread publishes a view
 // only when one has been asked for, and only if the reader is not copying the previous one
-// at that moment (a try-lock), so rendering never blocks physics.
+// at that moment (a try-lock), so rendering never blocks physics. Checkpoints (optional) are
+// written on a thread of their own (ui/live_attempt_checkpoints.hpp): the physics thread only
+// stages each frame and hands the staged part over at each checkpoint time, never waiting.
 #pragma once
 
 #include <atomic>
@@ -19,6 +21,7 @@
 #include "engine/haptic_loop.hpp"
 #include "engine/latest_value.hpp"
 #include "ui/attempt_runner.hpp"
+#include "ui/live_attempt_checkpoints.hpp"
 #include "ui/scene_snapshot.hpp"
 
 namespace acdr {
@@ -44,6 +47,15 @@ class LiveAttempt {
   LiveAttempt(const LiveAttempt&) = delete;
   LiveAttempt& operator=(const LiveAttempt&) = delete;
 
+  /// Saves a checkpoint every `every_s` of simulated time (> 0; else nothing is done) through
+  /// `sink`, called on a writer thread of its own with what was recorded since the previous
+  /// saved checkpoint (the same contract as AttemptStepper::set_checkpoints). When the writer
+  /// is still busy at a checkpoint time, that part goes with the next one. wait() lets the
+  /// writer write everything handed over (and, for an attempt stopped before its end, the
+  /// rest as well) before it closes the attempt, so the sink's store is free again when wait()
+  /// returns. Call before start().
+  void set_checkpoints(double every_s, CheckpointSink sink);
+
   /// Starts the haptic thread. Call once.
   void start();
   /// True once the attempt has ended (input ended, time limit, failure, disconnect, stop).
@@ -67,6 +79,10 @@ class LiveAttempt {
   HapticLoopStats haptic_stats() const { return decoupled_ ? device_loop_->stats() : loop_.stats(); }
   /// The physics loop's rate and step times (live or final).
   HapticLoopStats physics_stats() const { return loop_.stats(); }
+  /// What the checkpoints cost (exact after wait(); zeros without checkpoints).
+  LiveCheckpointStats checkpoint_stats() const {
+    return checkpoints_ ? checkpoints_->stats() : LiveCheckpointStats{};
+  }
   /// True when the device has its own loop (a live device).
   bool decoupled() const { return decoupled_; }
   /// Device ticks whose force was clamped, or zeroed for stale, non-finite or jumped input.
@@ -103,6 +119,7 @@ class LiveAttempt {
   const bool decoupled_;
   std::unique_ptr<DeviceLink> link_;  ///< decoupled only
   AttemptStepper stepper_;
+  std::unique_ptr<LiveAttemptCheckpoints> checkpoints_;  ///< when set_checkpoints was called
   HapticLoop loop_;  ///< the physics loop (and the device's, when not decoupled)
   std::unique_ptr<HapticLoop> device_loop_;
   std::unique_ptr<HapticLocalModel> local_;

@@ -47,6 +47,8 @@ nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
                     {"target_rate_hz", h.physics.target_rate_hz},
                     {"step_mean_ms", h.physics.work_mean_ms},
                     {"step_p99_ms", h.physics.work_p99_ms},
+                    {"step_max_ms", h.physics.work_max_ms},
+                    {"period_max_ms", h.physics.period_max_ms},
                     {"overruns", h.physics.overruns},
                     {"resyncs", h.physics.resyncs},
                     {"ticks", h.physics.ticks}};
@@ -212,8 +214,8 @@ std::string result_summary(const ResultContext& c) {
       const HapticLoopStats& p = c.haptics->physics;
       std::snprintf(line, sizeof line,
                     "  physics loop           %8.1f Hz (target %.0f), step mean %.3f ms, p99 "
-                    "%.3f ms\n",
-                    p.rate_hz, p.target_rate_hz, p.work_mean_ms, p.work_p99_ms);
+                    "%.3f ms, max %.3f ms\n",
+                    p.rate_hz, p.target_rate_hz, p.work_mean_ms, p.work_p99_ms, p.work_max_ms);
       s += line;
     }
     if (c.haptics->has_link) {

@@ -113,6 +113,7 @@ TraineeViewOutcome run_trainee_view(const ScenarioModel& scenario, World& world,
   LiveView view;
   capture_world_state(world, view.state);
   LiveAttempt live(scenario, world, *input, options.loop);
+  live.set_checkpoints(options.checkpoint_every_s, options.checkpoint_sink);
   live.start();
 
   OrbitCamera orbit;
@@ -236,6 +237,7 @@ TraineeViewOutcome run_trainee_view(const ScenarioModel& scenario, World& world,
       // The attempt is over: close it (metrics, score), let the caller store it, show the score.
       outcome.run = live.wait();
       outcome.haptics = live.haptic_stats();
+      outcome.checkpoints = live.checkpoint_stats();
       const std::string status = on_finished ? on_finished(outcome.run) : "";
       score = make_score_screen(scenario, outcome.run, status);
       live_phase = false;
@@ -255,6 +257,7 @@ TraineeViewOutcome run_trainee_view(const ScenarioModel& scenario, World& world,
     live.request_stop(AttemptEnd::kStopped);
     outcome.run = live.wait();
     outcome.haptics = live.haptic_stats();
+    outcome.checkpoints = live.checkpoint_stats();
     if (on_finished) on_finished(outcome.run);
   }
   outcome.ok = true;

@@ -14,6 +14,7 @@
 #include "engine/world.hpp"
 #include "scenarios/scenario_model.hpp"
 #include "ui/attempt_runner.hpp"
+#include "ui/live_attempt_checkpoints.hpp"
 
 namespace acdr {
 
@@ -31,6 +32,10 @@ struct TraineeViewOptions {
   bool vsync = true;
   std::string input_label;  ///< shown in the HUD ("udp:7000", "replay:demo.csv"); mouse: "mouse"
   HapticLoopOptions loop;  ///< rate defaults to the scenario's 1 / dt
+  /// Checkpoints of the attempt (LiveAttempt::set_checkpoints): every this many simulated
+  /// seconds (0: none), through `checkpoint_sink` on a writer thread.
+  double checkpoint_every_s = 0.0;
+  CheckpointSink checkpoint_sink;
 };
 
 struct TraineeViewOutcome {
@@ -38,6 +43,7 @@ struct TraineeViewOutcome {
   std::string error;  ///< why the window could not be used (no display, no GL 3.3, ...)
   AttemptRun run;
   HapticLoopStats haptics;
+  LiveCheckpointStats checkpoints;
 };
 
 /// Called on the main thread once the attempt has ended, before the score screen shows (store

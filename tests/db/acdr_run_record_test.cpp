@@ -1,10 +1,14 @@
 // End to end (issue 6 acceptance) with the acdr program: `acdr run` killed by SIGKILL
 // mid-attempt leaves an intact record, and the next start (`acdr report`) shows the attempt
-// aborted with the recording and the metrics of its last checkpoint, which agree exactly; a
-// completed attempt re-scored by `acdr rescore` reproduces its stored metrics exactly.
+// aborted with the recording and the metrics of its last checkpoint, which agree exactly — for
+// a headless replay and for a live attempt over the UDP bridge; a completed attempt re-scored
+// by `acdr rescore` reproduces its stored metrics exactly, an aborted one its checkpointed ones.
 #include <gtest/gtest.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,7 +17,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "assessment/metrics.hpp"
 #include "assessment/recording.hpp"
@@ -164,6 +170,149 @@ TEST(AcdrRunRecord, KilledAttemptIsAbortedWithItsCheckpointedRecordingAndMetrics
   EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
   EXPECT_EQ(a.duration_s, std::optional<double>(decoded->frames.back().t_s));
   EXPECT_GT(*a.metrics.find("tip_path_length_mm"), 0.0);
+}
+
+// A UDP port on loopback that is free right now (bound to port 0, read back, released).
+int free_udp_port() {
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  if (fd < 0) return 0;
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t len = sizeof addr;
+  int port = 0;
+  if (bind(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0 &&
+      getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) == 0)
+    port = ntohs(addr.sin_port);
+  close(fd);
+  return port;
+}
+
+// Starts `argv` as a child with stdout (and stderr, when `quiet`) to /dev/null.
+pid_t spawn(const std::vector<std::string>& argv, bool quiet) {
+  const pid_t child = fork();
+  if (child != 0) return child;
+  if (!freopen("/dev/null", "w", stdout)) _exit(120);
+  if (quiet && !freopen("/dev/null", "w", stderr)) _exit(120);
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  execv(args[0], args.data());
+  _exit(127);
+}
+
+// Issue 6: a live attempt (the UDP bridge, `acdr device-sim` as the device) checkpoints on its
+// writer thread; killed with SIGKILL mid-attempt, it leaves an intact record in which the next
+// start shows it aborted with the frames, events and metrics of its last checkpoint, and
+// `acdr rescore` re-computes exactly those metrics from its recording while it stays aborted.
+TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThem) {
+  test::TempDir dir;
+  const std::string db_path = dir.file("record.sqlite");
+  const std::string trajectory = dir.file("long.csv");
+  write_long_trajectory(std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/short_scoop.csv",
+                        trajectory, 3);  // 9 s: far longer than the run is let live
+  const std::string scene_path = write_scene(dir);
+  const int port = free_udp_port();
+  ASSERT_GT(port, 0);
+
+  const pid_t run = spawn({ACDR_EXE, "run", scene_path, "--input",
+                           "udp:" + std::to_string(port), "--headless", "--db", db_path,
+                           "--checkpoint-every", "0.2", "--device-timeout", "20", "--trainee",
+                           "t-live"},
+                          false);
+  ASSERT_GT(run, 0);
+  const pid_t bridge = spawn({ACDR_EXE, "device-sim", "--port", std::to_string(port),
+                              "--trajectory", trajectory, "--connect-timeout", "20",
+                              "--nan-at", "0.15"},  // a rejected pose: an event to keep
+                             true);
+  ASSERT_GT(bridge, 0);
+  // Kill the run once three checkpoints are committed.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  int status = 0;
+  bool exited = false;
+  while (committed_chunks(db_path) < 3 && std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(run, &status, WNOHANG) == run) {
+      exited = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (!exited) {
+    ASSERT_EQ(kill(run, SIGKILL), 0);
+    ASSERT_EQ(waitpid(run, &status, 0), run);
+  }
+  kill(bridge, SIGKILL);  // our own child: the device has no simulator to talk to any more
+  waitpid(bridge, nullptr, 0);
+  ASSERT_FALSE(exited) << "acdr run ended before it was killed (exit "
+                       << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << ")";
+  ASSERT_TRUE(WIFSIGNALED(status));
+
+  // The next start of the program: `acdr report` shows the attempt aborted.
+  const std::string output =
+      run_program(std::string(ACDR_EXE) + " report --db '" + db_path + "' --format json");
+  const nlohmann::json report = nlohmann::json::parse(output);
+  ASSERT_EQ(report["attempts"].size(), 1u) << output;
+  const nlohmann::json& shown = report["attempts"][0];
+  EXPECT_EQ(shown["status"], "aborted");
+  EXPECT_GT(shown["duration_s"].get<double>(), 0.0);
+  EXPECT_FALSE(shown["metrics"].empty());
+  EXPECT_TRUE(shown["score"].is_null());
+  EXPECT_TRUE(shown["passed"].is_null());
+
+  AttemptRecord a;
+  {
+    Database db = test::open_or_fail(db_path);
+    DbResult<Statement> s = db.prepare("PRAGMA integrity_check");
+    ASSERT_TRUE(s.ok());
+    ASSERT_TRUE(s->step().value());
+    EXPECT_EQ(s->column_text(0), "ok");
+    auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
+    ASSERT_TRUE(attempts.ok()) << attempts.error().message;
+    ASSERT_EQ(attempts->size(), 1u);
+    a = attempts->front();
+  }
+  EXPECT_EQ(a.status, AttemptStatus::kAborted);
+  EXPECT_EQ(a.input_device, "udp:" + std::to_string(port));
+  ASSERT_TRUE(a.recording.has_value());
+  EXPECT_FALSE(a.recording->complete);
+  std::string error;
+  const auto decoded = decode_recording(a.recording->bytes, &error);
+  ASSERT_TRUE(decoded) << error;
+  // At least three 0.2 s checkpoints of the 1 ms step, each ending on its own step.
+  ASSERT_GE(decoded->frames.size(), 600u);
+  EXPECT_EQ(static_cast<std::int64_t>(decoded->frames.size()), a.recording->frame_count);
+  for (std::size_t i = 1; i < decoded->frames.size(); ++i)
+    ASSERT_GT(decoded->frames[i].t_s, decoded->frames[i - 1].t_s) << i;
+  ASSERT_TRUE(a.duration_s.has_value());
+  EXPECT_GT(*a.duration_s, 0.0);
+  EXPECT_EQ(*a.duration_s, decoded->frames.back().t_s);
+  EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
+  EXPECT_GT(*a.metrics.find("tip_path_length_mm"), 0.0);
+  std::printf("[ info     ] killed live attempt: %zu frames (%.3f s), %zu events checkpointed\n",
+              decoded->frames.size(), *a.duration_s, decoded->events.size());
+  // The stored (and reported) events are the recording's, in order.
+  EXPECT_EQ(shown["events"].size(), a.events.size());
+  ASSERT_GE(decoded->events.size(), 1u);
+  EXPECT_EQ(decoded->events[0].kind, EventKind::kInputRejected);
+  ASSERT_EQ(a.events.size(), decoded->events.size());
+  for (std::size_t i = 0; i < a.events.size(); ++i) {
+    EXPECT_EQ(a.events[i].kind, event_kind_name(decoded->events[i].kind)) << i;
+    EXPECT_EQ(a.events[i].t_s, decoded->events[i].t_s) << i;
+  }
+  EXPECT_FALSE(a.score.has_value());
+  EXPECT_FALSE(a.passed.has_value());
+
+  // Re-scored: the same metrics from the recording; still aborted, unscored, not passed.
+  const std::string out = run_program(std::string(ACDR_EXE) + " rescore --db '" + db_path + "'");
+  EXPECT_NE(out.find("aborted, not scored"), std::string::npos) << out;
+  EXPECT_NE(out.find("metrics identical"), std::string::npos) << out;
+  EXPECT_NE(out.find("1 attempt(s) re-scored, 0 changed"), std::string::npos) << out;
+  Database db = test::open_or_fail(db_path);
+  const AttemptRecord after = *load_attempt(db, a.id).value();
+  EXPECT_EQ(after.status, AttemptStatus::kAborted);
+  EXPECT_FALSE(after.score.has_value());
+  EXPECT_FALSE(after.passed.has_value());
+  EXPECT_EQ(after.metrics.values, a.metrics.values);
 }
 
 TEST(AcdrRunRecord, RescoringACompletedAttemptReproducesItsMetricsExactly) {

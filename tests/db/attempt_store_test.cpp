@@ -292,6 +292,31 @@ TEST(AttemptStore, RescoreReplacesMetricsAndScoreOnly) {
   EXPECT_EQ(a.status, AttemptStatus::kCompleted);
 }
 
+TEST(AttemptStore, AnAbortedAttemptGetsNewMetricsButNeverAScore) {
+  TempDir dir;
+  Database db = test::open_or_fail(dir.file("record.sqlite"));
+  test::register_curriculum(db, 1);
+  const auto id = begin_attempt(db, practice_start()).value();
+  AttemptCheckpoint checkpoint;
+  checkpoint.metrics = Metrics{{{"tip_path_length_mm", 3.0}}};
+  checkpoint.duration_s = 1.0;
+  ASSERT_TRUE(append_checkpoint(db, id, checkpoint).ok());
+  // Only an aborted attempt: a running or completed one keeps its metrics.
+  EXPECT_FALSE(update_aborted_metrics(db, id, Metrics{{{"tip_path_length_mm", 4.0}}}).ok());
+  ASSERT_TRUE(abort_attempt(db, id, "stopped").ok());
+  ASSERT_TRUE(update_aborted_metrics(db, id, Metrics{{{"tip_path_length_mm", 4.0}}}).ok());
+  const AttemptRecord a = *load_attempt(db, id).value();
+  EXPECT_EQ(a.status, AttemptStatus::kAborted);
+  EXPECT_EQ(a.metrics.values, (Metrics{{{"tip_path_length_mm", 4.0}}}.values));
+  EXPECT_FALSE(a.score.has_value());
+  EXPECT_FALSE(a.passed.has_value());
+  EXPECT_TRUE(a.score_detail.terms.empty());
+  EXPECT_EQ(a.duration_s, std::optional<double>(1.0));
+  // And a completed attempt is re-scored with update_attempt_assessment, not this.
+  const auto done = test::add_attempt(db, "t1", "m1", 40, false, test::minute(0));
+  EXPECT_FALSE(update_aborted_metrics(db, done, Metrics{}).ok());
+}
+
 TEST(AttemptStore, AttemptOfAWriterOnAnotherHostIsAbortedButOwnIsNot) {
   TempDir dir;
   Database db = test::open_or_fail(dir.file("record.sqlite"));

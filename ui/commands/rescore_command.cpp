@@ -1,5 +1,6 @@
 // Re-scoring: metrics come from the recording alone (assessment never reads engine internals),
-// so a stored attempt can be judged again under a newer rubric.
+// so a stored attempt can be judged again under a newer rubric. An aborted attempt's metrics
+// are re-computed from its checkpointed recording; it is never scored.
 #include "ui/commands/rescore_command.hpp"
 
 #include <cstdio>
@@ -38,11 +39,15 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
   int rescored = 0, changed = 0;
   for (const AttemptRecord& row : attempts.value()) {
     if (options.attempt && row.id != *options.attempt) continue;
-    if (row.status != AttemptStatus::kCompleted) continue;
+    // A running attempt is still being written. An aborted one is re-computed from what was
+    // checkpointed, but stays aborted, unscored and not passed (it never counts toward
+    // progression); one aborted before its first checkpoint has nothing to re-compute.
+    if (row.status == AttemptStatus::kRunning) continue;
+    const bool aborted = row.status == AttemptStatus::kAborted;
 
-    // The module's scenario file gives the current rubric.
+    // The module's scenario file gives the current rubric (an aborted attempt needs none).
     auto& scenario = scenarios[row.module_id];
-    if (!scenario) {
+    if (!scenario && !aborted) {
       auto module = find_module(db.value(), row.module_id);
       if (!module || !module.value()) {
         err << db_path << ": attempt " << row.id << ": module '" << row.module_id
@@ -58,7 +63,20 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
     }
 
     auto full = load_attempt(db.value(), row.id, {true, false, true});
-    if (!full || !full.value() || !full.value()->recording) {
+    if (!full) {
+      err << full.error().message << "\n";
+      return 2;
+    }
+    if (aborted && full.value() && !full.value()->recording) {
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "attempt %lld (%s): aborted before its first checkpoint, nothing to "
+                    "re-score\n",
+                    static_cast<long long>(row.id), row.module_id.c_str());
+      out << line;
+      continue;
+    }
+    if (!full.value() || !full.value()->recording) {
       err << db_path << ": attempt " << row.id << " has no recording to re-score from\n";
       return 2;
     }
@@ -75,10 +93,27 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
       return 2;
     }
     const Metrics metrics = compute_metrics(*recording);
-    const ScoreResult score = score_attempt(metrics, scenario->rubric);
-    const double old_score = row.score.value_or(0.0);
     const bool metrics_same = metrics.values == full.value()->metrics.values;
     char line[200];
+    if (aborted) {
+      std::snprintf(line, sizeof line,
+                    "attempt %lld (%s): aborted, not scored (%zu checkpointed frames)%s\n",
+                    static_cast<long long>(row.id), row.module_id.c_str(),
+                    recording->frames.size(),
+                    metrics_same ? ", metrics identical" : ", metrics changed");
+      out << line;
+      ++rescored;
+      if (!metrics_same) ++changed;
+      if (!options.dry_run && !metrics_same) {
+        if (auto stored = update_aborted_metrics(db.value(), row.id, metrics); !stored) {
+          err << stored.error().message << "\n";
+          return 2;
+        }
+      }
+      continue;
+    }
+    const ScoreResult score = score_attempt(metrics, scenario->rubric);
+    const double old_score = row.score.value_or(0.0);
     std::snprintf(line, sizeof line, "attempt %lld (%s): score %.2f -> %.2f%s%s\n",
                   static_cast<long long>(row.id), row.module_id.c_str(), old_score, score.score,
                   score.passed ? " passed" : " not passed",

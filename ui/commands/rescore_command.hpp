@@ -1,5 +1,6 @@
 // `acdr rescore`: re-scores stored attempts from their recordings with the current rubric of
-// their module's scenario file, and stores the new metrics and score.
+// their module's scenario file, and stores the new metrics and score. Aborted attempts get their
+// metrics re-computed from what was checkpointed, and stay aborted, unscored and not passed.
 #pragma once
 
 #include <iosfwd>

@@ -6,13 +6,13 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <ostream>
-#include <span>
 
-#include "assessment/metrics.hpp"
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
+#include "db/checkpoint_writer.hpp"
 #include "db/progression.hpp"
 #include "engine/udp_device.hpp"
 #include "scenarios/scenario_loader.hpp"
@@ -25,67 +25,6 @@
 
 namespace acdr {
 namespace {
-
-// The engine's events as the record stores them: zone events carry the zone's index, the
-// record keeps its name too.
-std::vector<EventRecord> event_records(std::span<const Event> events,
-                                       const std::vector<WorldSummary::Zone>& zones) {
-  std::vector<EventRecord> out;
-  out.reserve(events.size());
-  for (const Event& e : events) {
-    const bool known = e.zone >= 0 && static_cast<std::size_t>(e.zone) < zones.size();
-    out.push_back(EventRecord{e.t_s, event_kind_name(e.kind),
-                              known ? zones[static_cast<std::size_t>(e.zone)].name : std::string(),
-                              e.value, e.detail, known ? e.zone : -1});
-  }
-  return out;
-}
-
-// A checkpoint of a running attempt from what was recorded since the last one: the next
-// recording piece (the header first), the new events, the metrics so far. Warns once when the
-// store refuses (the attempt goes on; the next checkpoint carries the missed part).
-class CheckpointWriter {
- public:
-  CheckpointWriter(Database& db, std::int64_t attempt_id, std::ostream& err)
-      : db_(db), attempt_id_(attempt_id), err_(err) {}
-
-  bool operator()(const CheckpointView& view) {
-    const AttemptRecording& record = view.record;
-    AttemptCheckpoint checkpoint;
-    RecordingData chunk;
-    chunk.format = kRecordingFormat;
-    chunk.complete = false;
-    if (!header_saved_) chunk.bytes = encode_recording_header(record.summary);
-    const std::span<const Frame> frames =
-        std::span<const Frame>(record.frames).subspan(view.first_new_frame);
-    const std::span<const Event> events =
-        std::span<const Event>(record.events).subspan(view.first_new_event);
-    append_frame_block(frames, chunk.bytes);
-    append_event_block(events, chunk.bytes);
-    chunk.frame_count = static_cast<std::int64_t>(frames.size());
-    checkpoint.chunk = std::move(chunk);
-    checkpoint.new_events = event_records(events, record.summary.zones);
-    checkpoint.metrics = compute_metrics(record);
-    checkpoint.duration_s = view.t_s;
-    if (auto saved = append_checkpoint(db_, attempt_id_, checkpoint); !saved) {
-      if (!warned_) err_ << "warning: checkpoint not saved: " << saved.error().message << "\n";
-      warned_ = true;
-      return false;
-    }
-    header_saved_ = true;
-    ++saved_;
-    return true;
-  }
-  int saved() const { return saved_; }
-
- private:
-  Database& db_;
-  std::int64_t attempt_id_;
-  std::ostream& err_;
-  bool header_saved_ = false;
-  bool warned_ = false;
-  int saved_ = 0;
-};
 
 // Stores the run: finished in one transaction, or aborted when the trainee abandoned it.
 // Returns false with `error` set when the store refused.
@@ -256,6 +195,30 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   std::string stored_as;
   bool stored = false;
 
+  // A live attempt (window, bridge) writes its checkpoints on a thread of its own
+  // (ui/live_attempt_checkpoints.hpp), through a connection of its own (one per thread,
+  // db/database.hpp); the main connection is not used until that thread has ended, when the
+  // attempt is stored.
+  const bool live_run = windowed || udp != nullptr;
+  std::optional<Database> checkpoint_db;
+  std::optional<CheckpointWriter> live_writer;
+  CheckpointSink live_sink;
+  if (live_run && options.checkpoint_every_s > 0) {
+    OpenOptions open;
+    open.create = false;
+    if (auto second = Database::open(db_path, open); second) {
+      checkpoint_db.emplace(std::move(second.value()));
+      live_writer.emplace(*checkpoint_db, attempt_id.value(), err);
+      live_sink = [&live_writer](const CheckpointView& view) {
+        return live_writer->write(view.record, view.first_new_frame, view.first_new_event,
+                                  view.t_s);
+      };
+    } else {
+      err << "warning: the attempt runs without checkpoints: " << second.error().message << "\n";
+    }
+  }
+  LiveCheckpointStats checkpoint_stats;
+
   if (windowed) {
     TraineeViewOptions view;
     view.screenshot = options.screenshot;
@@ -264,6 +227,8 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     view.close_after_s = options.close_after_s;
     view.input_label = options.input;
     view.loop.realtime_priority = options.realtime;
+    view.checkpoint_every_s = options.checkpoint_every_s;
+    view.checkpoint_sink = live_sink;
     std::string store_error;
     TraineeViewOutcome outcome = run_trainee_view(
         scenario, world, device.get(), view, [&](const AttemptRun& finished) -> std::string {
@@ -284,6 +249,7 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     }
     run = std::move(outcome.run);
     haptics.loop = outcome.haptics;
+    checkpoint_stats = outcome.checkpoints;
     live = true;
   } else {
     if (udp) {
@@ -291,8 +257,10 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
       HapticLoopOptions loop;
       loop.realtime_priority = options.realtime;
       LiveAttempt attempt(scenario, world, *device, loop);
+      attempt.set_checkpoints(options.checkpoint_every_s, live_sink);
       attempt.start();
       run = attempt.wait();
+      checkpoint_stats = attempt.checkpoint_stats();
       haptics.loop = attempt.haptic_stats();
       haptics.decoupled = attempt.decoupled();
       haptics.physics = attempt.physics_stats();
@@ -302,7 +270,10 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     } else {
       CheckpointWriter checkpoints(db.value(), attempt_id.value(), err);
       run = run_attempt(scenario, world, *device, {}, options.checkpoint_every_s,
-                        [&checkpoints](const CheckpointView& view) { return checkpoints(view); });
+                        [&checkpoints](const CheckpointView& view) {
+                          return checkpoints.write(view.record, view.first_new_frame,
+                                                   view.first_new_event, view.t_s);
+                        });
     }
     std::string store_error;
     if (!store_run(db.value(), attempt_id.value(), run, world, options, &stored_as,
@@ -329,10 +300,37 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   ResultContext context{scenario, run, world, attempt_id.value(), db_path, options.png};
   context.haptics = live ? &haptics : nullptr;
   context.stored_as = stored_as;
-  if (options.json)
-    out << result_json(context).dump(2) << "\n";
-  else
+  if (options.json) {
+    nlohmann::json result = result_json(context);
+    if (live_writer) {
+      // What the checkpoints cost: on the writer thread per checkpoint, and on the physics
+      // thread per hand-over (haptics.physics has the physics loop's step times).
+      const LiveCheckpointStats& c = checkpoint_stats;
+      result["checkpoints"] = {{"every_s", options.checkpoint_every_s},
+                               {"saved", c.saved},
+                               {"failed", c.failed},
+                               {"deferred", c.deferred},
+                               {"frames_saved", c.frames_saved},
+                               {"largest_frames", c.largest_frames},
+                               {"write_mean_ms", c.write_mean_ms},
+                               {"write_max_ms", c.write_max_ms},
+                               {"handover_max_ms", c.handover_max_ms},
+                               {"writer_background_priority", c.background_priority}};
+    }
+    out << result.dump(2) << "\n";
+  } else {
     out << result_summary(context);
+    if (live_writer) {
+      const LiveCheckpointStats& c = checkpoint_stats;
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "  checkpoints            %lld saved every %g s (writer thread: mean %.1f "
+                    "ms, max %.1f ms; %lld deferred)\n",
+                    static_cast<long long>(c.saved), options.checkpoint_every_s,
+                    c.write_mean_ms, c.write_max_ms, static_cast<long long>(c.deferred));
+      out << line;
+    }
+  }
   if (run.end == AttemptEnd::kNumericalFailure) return 1;
   if (run.end == AttemptEnd::kStopped) return 3;
   return 0;

@@ -35,9 +35,10 @@ struct RunOptions {
   double close_after_s = -1.0;
   /// Run the haptic loop with real-time priority when the OS grants it (haptics.realtime).
   bool realtime = false;
-  /// Headless replay: store a checkpoint (recording so far, events, metrics) every this many
-  /// simulated seconds, so a killed run leaves an aborted attempt with what was recorded
-  /// (0: never).
+  /// Store a checkpoint (recording so far, events, metrics) every this many simulated seconds,
+  /// so a killed run leaves an aborted attempt with what was recorded (0: never). A headless
+  /// replay writes it on its stepping thread; a live attempt (window, bridge) on a writer
+  /// thread of its own, so the physics loop never waits for it.
   double checkpoint_every_s = 5.0;
 };
 
