@@ -85,6 +85,17 @@ int committed_chunks(const std::string& db_path) {
   return n;
 }
 
+// Waits (up to 60 s) until `n` recording chunks of a running child are committed; true if the
+// child exited first (its wait status in *status).
+bool exited_before_chunks(const std::string& db_path, pid_t child, int n, int* status) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (committed_chunks(db_path) < n && std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(child, status, WNOHANG) == child) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return false;
+}
+
 // The small test box with room for a long replay; returns the scene file's path.
 std::string write_scene(const test::TempDir& dir) {
   nlohmann::json scene = nlohmann::json::parse(
@@ -125,16 +136,8 @@ TEST(AcdrRunRecord, KilledAttemptIsAbortedWithItsCheckpointedRecordingAndMetrics
     _exit(127);
   }
   // Kill it once a few checkpoints are committed.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   int status = 0;
-  bool exited = false;
-  while (committed_chunks(db_path) < 3 && std::chrono::steady_clock::now() < deadline) {
-    if (waitpid(child, &status, WNOHANG) == child) {
-      exited = true;
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  const bool exited = exited_before_chunks(db_path, child, 3, &status);
   ASSERT_FALSE(exited) << "acdr run ended before it was killed (exit "
                        << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << ")";
   ASSERT_EQ(kill(child, SIGKILL), 0);
@@ -227,16 +230,8 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
                              true);
   ASSERT_GT(bridge, 0);
   // Kill the run once three checkpoints are committed.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   int status = 0;
-  bool exited = false;
-  while (committed_chunks(db_path) < 3 && std::chrono::steady_clock::now() < deadline) {
-    if (waitpid(run, &status, WNOHANG) == run) {
-      exited = true;
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
+  const bool exited = exited_before_chunks(db_path, run, 3, &status);
   if (!exited) {
     ASSERT_EQ(kill(run, SIGKILL), 0);
     ASSERT_EQ(waitpid(run, &status, 0), run);
