@@ -85,6 +85,14 @@ RigidWorld::RigidWorld(const WorldConfig& config, const InstrumentGeometry* inst
   auto& w = impl_->world;
   w.setGravity(to_bt(config.gravity_m_s2));
   w.getSolverInfo().m_numIterations = 20;
+  // Penetration is pushed out by split impulses (a position-level correction that adds no
+  // momentum) from 10 um on. Bullet's default threshold, -0.04, is in world units and assumes
+  // metre-sized bodies: here it would be 40 mm, so every overlap of the millimetre instrument
+  // was corrected with velocity-level (Baumgarte) impulses, which count as contact force: a
+  // shaft pinned between the endplate rims then showed 8-19 N m "bending moments" that no
+  // force in the scene applied (the coupling can apply ~1 N m).
+  w.getSolverInfo().m_splitImpulse = 1;
+  w.getSolverInfo().m_splitImpulsePenetrationThreshold = -1.0e-5;
 
   for (const Collider& c : static_colliders) {
     if (c.kind == ColliderKind::kHalfSpace) {
