@@ -375,6 +375,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   walls_.resize(kMaxWallHitsPerParticle * n + 16);
   site_cache_.assign(kMaxWallHitsPerParticle * n, SiteSums{});
   site_cache_next_.assign(n, 0);
+  site_local_.assign(32 * site_offset_.size(), Vec3::Zero());
+  cache_turn_cos_ = std::cos(0.5 * solver_.wall_sum_cache_tolerance * h_ / radius_);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -482,6 +484,7 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
     report.ok = false;
     report.stage = "neighbors";
   }
+  collider_frames(moving);
   setup_walls(dt, moving);
   assemble(dt);
   solve(report);
@@ -877,6 +880,7 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       w.normal = normal;
       w.v_wall = vw;
       w.point = xi - d * normal;
+      w.distance = d;
       // The solid fills the lattice sites a particle is missing near it: their density, its
       // gradient, and their second moment are counted as neighbours (the role of boundary
       // particles in Akinci et al. 2012), site by site from the signed distance, so edges,
@@ -903,7 +907,8 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         // The sums depend on where the particle is relative to the solid only (cached).
         const SiteSums sums = solver_.wall_sum_cache
                                   ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
-                                  : site_sums(c, xi, d);
+                                  : site_sums(c, static_cast<std::int32_t>(kc), xi,
+                                              c.pose.inverse_apply(xi), d);
         density_[k] += sums.n;
         second_moment_[k] += sums.s2;
         w.grad = sums.grad;
@@ -974,26 +979,60 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   }
 }
 
-// Wall sums of collider c's lattice sites around a particle at x, d from its surface: each
-// site within R counts with its occupancy (see setup_walls).
-Nucleus::SiteSums Nucleus::site_sums(const Collider& c, const Vec3& x, double d) const {
+// Wall sums of collider `kc`'s lattice sites around a particle at x (local: x in the
+// collider's frame), d from its surface: each site within R counts with its occupancy (see
+// setup_walls). The sites are placed in the collider's frame with the offsets rotated once per
+// step (collider_frames), and a box's sites farther than h/2 outside its faces along any local
+// axis are rejected before the distance (their occupancy is 0): a particle beside the moving
+// blade recomputes these sums nearly every step, and most of its sites are outside the blade.
+Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const Vec3& x,
+                                     const Vec3& local, double d) const {
   SiteSums sums;
   const double d_eff = std::max(d, 0.25 * h_);
+  const double half = 0.5 * h_;
+  const bool identity = frame_identity_[kc] != 0;
+  const Vec3* offsets = identity ? site_offset_.data() : &site_local_[kc * site_offset_.size()];
+  const bool box = c.kind == ColliderKind::kBox;
+  const Vec3 reject = c.half_extents_m + Vec3::Constant(half);
+  Vec3 grad_local = Vec3::Zero();
   for (std::size_t o = 0; o < site_offset_.size(); ++o) {
     // sd(site) >= d - |offset|: a site that far cannot be occupied.
-    if (d - site_len_[o] >= 0.5 * h_) continue;
+    if (d - site_len_[o] >= half) continue;
+    // An unrotated collider: the site's local point exactly as signed_distance() forms it.
+    const Vec3 p = identity ? Vec3((x + site_offset_[o]) - c.pose.position)
+                            : Vec3(local + offsets[o]);
+    if (box && (p.x() >= reject.x() || -p.x() >= reject.x() || p.y() >= reject.y() ||
+                -p.y() >= reject.y() || p.z() >= reject.z() || -p.z() >= reject.z()))
+      continue;  // sd >= |p_a| - b_a >= h/2 on that axis
     Vec3 nq;
-    const double sd = signed_distance(c, x + site_offset_[o], &nq);
+    const double sd = signed_distance_local(c, p, &nq);
     double slope = 0.0;
     const double occ = occupancy(sd, h_, &slope);
     if (occ <= 0.0) continue;
     sums.n += occ * site_w_[o];
     sums.s2 += occ * site_wv_[o] * site_r2_[o];
-    sums.grad += (slope * site_w_[o] / n0_) * nq;
+    grad_local += (slope * site_w_[o] / n0_) * nq;
     const Vec3 u = site_offset_[o] / site_len_[o];
     sums.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
   }
+  sums.grad = identity ? grad_local : Vec3(c.pose.orientation * grad_local);
   return sums;
+}
+
+// Per collider of this step (statics, then moving): whether its orientation is the identity,
+// and otherwise the lattice site offsets in its frame.
+void Nucleus::collider_frames(std::span<const Collider> moving) {
+  const std::size_t n_static = statics_.size();
+  const std::size_t sites = site_offset_.size();
+  for (std::size_t kc = 0; kc < n_static + moving.size(); ++kc) {
+    const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
+    const Quat& q = c.pose.orientation;
+    const bool identity = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
+    frame_identity_[kc] = identity ? 1 : 0;
+    if (identity) continue;
+    const Eigen::Matrix3d to_local = q.conjugate().toRotationMatrix();
+    for (std::size_t o = 0; o < sites; ++o) site_local_[kc * sites + o] = to_local * site_offset_[o];
+  }
 }
 
 // site_sums of collider `kc` (index over statics then moving) for particle i at x, from the
@@ -1004,7 +1043,6 @@ Nucleus::SiteSums Nucleus::site_sums(const Collider& c, const Vec3& x, double d)
 Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
                                             const Vec3& x, double d) {
   const double tol = solver_.wall_sum_cache_tolerance * h_;
-  const double turn = solver_.wall_sum_cache_tolerance * h_ / radius_;  // rad
   const Vec3 local = c.pose.inverse_apply(x);
   SiteSums* entries = &site_cache_[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];
   SiteSums* slot = nullptr;
@@ -1013,13 +1051,13 @@ Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, 
   }
   if (slot) {
     const bool placed = (local - slot->local).squaredNorm() < tol * tol;
-    const bool turned = !(std::abs(c.pose.orientation.dot(slot->orientation)) > std::cos(0.5 * turn));
+    const bool turned = !(std::abs(c.pose.orientation.dot(slot->orientation)) > cache_turn_cos_);
     if (placed && !turned) return *slot;
   } else {
     slot = &entries[site_cache_next_[i]];  // round robin over the particle's entries
     site_cache_next_[i] = static_cast<std::uint8_t>((site_cache_next_[i] + 1) % kMaxWallHitsPerParticle);
   }
-  *slot = site_sums(c, x, d);
+  *slot = site_sums(c, kc, x, local, d);
   slot->collider = kc;
   slot->local = local;
   slot->orientation = c.pose.orientation;
@@ -1596,10 +1634,23 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double tiny = 1e-4 * h_;
   const double wall_range = radius_ + 0.5 * h_;
   const double free_path = wall_range - contact_ - 0.01 * h_;
+  // Speeds of the moving colliders' frames (for the path bound of culled colliders).
+  std::array<double, kMaxMoving> lin_speed, ang_speed;
+  for (std::size_t m = 0; m < moving.size(); ++m) {
+    lin_speed[m] = moving[m].linear_velocity_m_s.norm();
+    ang_speed[m] = moving[m].angular_velocity_rad_s.norm();
+  }
+  std::size_t hit_cursor = 0;  // walls_ holds each particle's hits consecutively, by local index
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = lg_[k];
     const std::uint32_t near_mask = near_colliders_[k];
     const bool check_all = all_colliders_[k] != 0;
+    while (hit_cursor < wall_count_ && walls_[hit_cursor].particle < static_cast<std::int32_t>(k))
+      ++hit_cursor;
+    std::size_t hit_end = hit_cursor;
+    while (hit_end < wall_count_ && walls_[hit_end].particle == static_cast<std::int32_t>(k))
+      ++hit_end;
+    double moved = (x_[i] - x_start_[i]).norm();  // kept current as projections move x
     // Statics, then the moving bodies, then the statics again: a particle squeezed between
     // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
     // overlap with the instrument is pushed out over the next steps).
@@ -1611,10 +1662,10 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       if (!check_all && !(near_mask & (1u << c_idx))) {
         // Path length in the collider's frame: the particle's displacement plus how far the
         // collider's material near it moved (|v| dt + |w| dt * distance).
-        double path = (x_[i] - x_start_[i]).norm();
+        double path = moved;
         if (!is_static)
-          path += (c.linear_velocity_m_s.norm() +
-                   c.angular_velocity_rad_s.norm() * (x_start_[i] - c.pose.position).norm()) *
+          path += (lin_speed[c_idx - n_static] +
+                   ang_speed[c_idx - n_static] * (x_start_[i] - c.pose.position).norm()) *
                   dt * 1.01;
         if (path < free_path) continue;
       }
@@ -1622,11 +1673,22 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       const Pose& end = is_static ? c.pose : end_pose_[c_idx - n_static];
       const Vec3 p0 = start.inverse_apply(x_start_[i]);
       Vec3 p1 = end.inverse_apply(x_[i]);
+      const double len = (p1 - p0).norm();
+      // The start distance is the one setup_walls found for this particle's hit on c (the same
+      // evaluation). For an exact distance (1-Lipschitz: not the sampled bone) a path shorter
+      // than d0 - contact - 2 tiny can neither end inside nor cross the inflated surface, the
+      // test below would pass: skip both distances.
+      const std::int32_t hit_id = is_static ? -1 - static_cast<std::int32_t>(c_idx)
+                                            : static_cast<std::int32_t>(c_idx - n_static);
+      std::size_t h = hit_cursor;
+      while (h < hit_end && walls_[h].collider != hit_id) ++h;
+      if (h < hit_end && c.kind != ColliderKind::kSdfGrid &&
+          len <= walls_[h].distance - contact_ - 2.0 * tiny)
+        continue;
       Vec3 n1;
       const double d1 = signed_distance_local(c, p1, &n1);
       Vec3 n0;
       const double d0 = signed_distance_local(c, p0, &n0);
-      const double len = (p1 - p0).norm();
       // The path cannot reach the inflated surface (triangle inequality on distances).
       if (d1 >= contact_ - tiny && len <= d0 + d1 - 2.0 * contact_) continue;
       Vec3 normal;   // local normal of the face the particle is held on
@@ -1670,6 +1732,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
         else q = surface + contact_ * normal;
       }
       x_[i] = end.apply(q);
+      moved = (x_[i] - x_start_[i]).norm();
       // Remove the approaching normal velocity relative to the surface; its impulse is a
       // force on the collider's body.
       const Vec3 nw = end.orientation * normal;

@@ -145,7 +145,9 @@ class Nucleus {
     double visc_t = 0.0;  // no-slip tensor, tangential components
   };
   struct SiteSums;
-  SiteSums site_sums(const Collider& c, const Vec3& x, double d) const;
+  SiteSums site_sums(const Collider& c, std::int32_t kc, const Vec3& x, const Vec3& local,
+                     double d) const;
+  void collider_frames(std::span<const Collider> moving);
   SiteSums cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i, const Vec3& x,
                             double d);
   bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
@@ -311,6 +313,7 @@ class Nucleus {
     Vec3 normal;            // outward surface normal
     Vec3 v_wall;            // surface velocity, m/s
     Vec3 point;             // surface point, m
+    double distance;        // signed distance at the start of the step, m
     bool contact;           // a velocity constraint in the solve
   };
   std::vector<WallHit> walls_;
@@ -329,6 +332,11 @@ class Nucleus {
   std::vector<SiteSums> site_cache_;         // kMaxWallHitsPerParticle x N
   std::vector<std::uint8_t> site_cache_next_;  // N, entry to replace next
   std::size_t wall_count_ = 0;
+  // Per collider of this step (statics, then moving; see collider_frames): 1 if unrotated,
+  // and the lattice site offsets in its frame (32 x sites).
+  std::array<std::uint8_t, 32> frame_identity_{};
+  std::vector<Vec3> site_local_;
+  double cache_turn_cos_ = 1.0;  // cos of half the wall-sum cache's turn limit
   static constexpr int kMaxMoving = 16;
   std::array<Pose, kMaxMoving> end_pose_;  // moving collider poses at the end of the step
 };
