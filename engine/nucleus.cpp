@@ -282,6 +282,16 @@ void Nucleus::init(std::span<const Collider> static_colliders,
     bond_k_[b] = bond.stiffness_N_m;
     bond_break_[b] = bond.break_stretch_m;
   }
+  // Squared lengths at which each bond breaks (break_bonds), 0 and +inf when unbreakable.
+  bond_break_hi2_.assign(nb, std::numeric_limits<double>::infinity());
+  bond_break_lo2_.assign(nb, 0.0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (bond_break_[b] <= 0.0) continue;
+    const double hi = bond_rest_[b] + bond_break_[b], lo = bond_rest_[b] - bond_break_[b];
+    bond_break_hi2_[b] = hi * hi;
+    bond_break_lo2_[b] = lo > 0.0 ? lo * lo : 0.0;
+  }
+  periodic_ = options_.periodic[0] || options_.periodic[1] || options_.periodic[2];
   loose_possible_ = false;
   for (std::size_t b = 0; b < nb; ++b)
     if (bond_break_[b] <= 0.0 || bond_rest_[b] + bond_break_[b] >= radius_) loose_possible_ = true;
@@ -369,6 +379,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   con_e_.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   con_v_.assign(n, Vec3::Zero());
   con_slot_.assign(n, -1);
+  con_av_.assign(n, Vec3::Zero());
+  con_aq_.assign(n, Vec3::Zero());
   con_particles_ = 0;
   near_colliders_.assign(n, 0);
   all_colliders_.assign(n, 0);
@@ -433,6 +445,7 @@ std::uint64_t Nucleus::state_hash() const {
 }
 
 Vec3 Nucleus::min_image(const Vec3& d) const {
+  if (!periodic_) return d;
   Vec3 out = d;
   for (int a = 0; a < 3; ++a) {
     if (!options_.periodic[a]) continue;
@@ -1460,6 +1473,9 @@ void Nucleus::solve(NumericalReport& report) {
   }
   for (const std::int32_t i : fixed_list_) v_[i] = fixed_v_[i];
   apply(v, q, frozen_moving_);
+  // A v on the constrained rows, kept along with v (A v0 + sum alpha A p): the contact forces
+  // are its constrained part (reactions_and_pressure), which the filtered residual drops.
+  for (std::size_t c = 0; c < con_particles_; ++c) con_av_[c] = q[con_particle_[c]];
   double b_norm2 = 0.0, g_norm2 = 0.0;
   const double g2 = gravity_.squaredNorm();
   for (std::size_t k = 0; k < na; ++k) {
@@ -1489,11 +1505,13 @@ void Nucleus::solve(NumericalReport& report) {
   const int max_it = std::max(1, solver_.max_iterations);
   while (r_norm > tol && it < max_it) {
     apply(p, q, false);
+    for (std::size_t c = 0; c < con_particles_; ++c) con_aq_[c] = q[con_particle_[c]];
     filter(q);
     double pq = 0.0;
     for (std::size_t k = 0; k < na; ++k) pq += p[k].dot(q[k]);
     if (!(pq > 0.0)) break;  // converged to round-off (or a non-finite value, caught later)
     const double alpha = rz / pq;
+    for (std::size_t c = 0; c < con_particles_; ++c) con_av_[c] += alpha * con_aq_[c];
     double rz_new = 0.0;
     double rn = 0.0;
     // r stays filtered (q is), so r . z equals r . (filtered z): the dot product is taken
@@ -1553,10 +1571,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
                        ? std::max(0.0, kappa_[i] * (constraint_[k] + dt * s_[k]))
                        : 0.0;
   }
-  // Contact forces: the constrained part of A v - b, divided by dt (q_ = A v).
-  bool any_contact = false;
-  for (std::size_t w = 0; w < wall_count_ && !any_contact; ++w) any_contact = walls_[w].contact;
-  if (any_contact) apply(v, q_.data(), frozen_moving_);
+  // Contact forces: the constrained part of A v - b, divided by dt (A v kept by solve()).
 
   std::size_t w0 = 0;
   while (w0 < wall_count_) {
@@ -1569,7 +1584,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     double share[kMaxWallHitsPerParticle] = {0, 0, 0, 0};
     const std::int32_t cs = k < static_cast<std::int32_t>(na_) ? con_slot_[k] : -1;
     if (cs >= 0) {
-      Vec3 lambda = (q_[k] - rhs_[k]) / dt;
+      Vec3 lambda = (con_av_[cs] - rhs_[k]) / dt;
       Vec3 constrained = Vec3::Zero();
       for (int a = 0; a < con_count_[cs]; ++a)
         constrained += con_e_[cs][a] * con_e_[cs][a].dot(lambda);
@@ -1776,8 +1791,10 @@ void Nucleus::break_bonds() {
       const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
       const std::int32_t other = i == u ? j : i;
       if (moves(other) && other < u) continue;  // visited from the other end
-      const double stretch = min_image(x_[j] - x_[i]).norm() - bond_rest_[b];
-      if (std::abs(stretch) > bond_break_[b]) {
+      // |r - L| > delta  <=>  r^2 > (L + delta)^2 or r^2 < (L - delta)^2 (the latter only
+      // when L > delta): no square root per bond.
+      const double r2 = min_image(x_[j] - x_[i]).squaredNorm();
+      if (r2 > bond_break_hi2_[b] || r2 < bond_break_lo2_[b]) {
         bond_alive_[b] = 0;
         ++broken_;
         for (const std::int32_t e : {i, j}) {

@@ -158,6 +158,7 @@ class Nucleus {
   SolverConfig solver_;
   NucleusOptions options_;
   Vec3 gravity_;
+  bool periodic_ = false;  // any periodic axis (min_image is the identity otherwise)
   std::vector<Collider> statics_;
 
   double h_ = 1e-3;       // spacing, m
@@ -206,6 +207,8 @@ class Nucleus {
   std::vector<double> bond_rest_;      // m
   std::vector<double> bond_k_;         // N/m
   std::vector<double> bond_break_;     // m, <= 0 unbreakable
+  std::vector<double> bond_break_hi2_;  // m^2, (L + delta)^2: longer breaks (+inf: never)
+  std::vector<double> bond_break_lo2_;  // m^2, (L - delta)^2: shorter breaks (0: never)
   std::vector<std::uint8_t> bond_alive_;
   std::vector<std::uint8_t> bond_in_pair_;  // 1 while a pair of this step carries it
   std::size_t broken_ = 0;
@@ -298,6 +301,8 @@ class Nucleus {
   std::vector<std::array<Vec3, 3>> con_e_;  // orthonormal constrained directions
   std::vector<Vec3> con_v_;                 // constrained velocity component, m/s
   std::vector<std::int32_t> con_slot_;      // na: index into con_particle_, -1 if none
+  std::vector<Vec3> con_av_;                // (A v) at the constrained particles, N s
+  std::vector<Vec3> con_aq_;                // scratch: (A p) there before the filter
   std::size_t con_particles_ = 0;
   // Collider culling for the contact projection: colliders whose surface was within the wall
   // range of the particle at the start of the step (bit k for collider k, statics first).
