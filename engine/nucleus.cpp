@@ -116,6 +116,12 @@ Pose advance(const Pose& p, const Vec3& v, const Vec3& w, double dt) {
   return out;
 }
 
+/// World point x in a pose's frame; `identity`: the pose is unrotated, and the rotation (exact
+/// for the identity quaternion) is skipped.
+inline Vec3 to_local(const Pose& pose, bool identity, const Vec3& x) {
+  return identity ? Vec3(x - pose.position) : pose.inverse_apply(x);
+}
+
 inline bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
 }  // namespace
@@ -478,9 +484,12 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
     r.rot_drag_Nms = 0.0;
   }
   if (x_.empty()) return;
-  for (std::size_t m = 0; m < moving.size(); ++m)
+  for (std::size_t m = 0; m < moving.size(); ++m) {
     end_pose_[m] = advance(moving[m].pose, moving[m].linear_velocity_m_s,
                            moving[m].angular_velocity_rad_s, dt);
+    const Quat& q = end_pose_[m].orientation;
+    end_identity_[m] = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
+  }
   // The last step's particles leave the local numbering (and their body forces reset: only
   // they were written).
   for (std::size_t k = 0; k < nl_; ++k) {
@@ -875,7 +884,9 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
           continue;
       }
       Vec3 normal;
-      const double d = signed_distance(c, xi, &normal);
+      const bool unrotated = frame_identity_[kc] != 0;
+      const double d = signed_distance_local(c, to_local(c.pose, unrotated, xi), &normal);
+      if (!unrotated) normal = c.pose.orientation * normal;
       const Vec3 vw = kc < n_static ? Vec3::Zero() : c.velocity_at(xi);
       const double vn_rel = (vi - vw).dot(normal);
       const double reach = contact_ + 0.1 * h_ + std::max(0.0, -vn_rel) * dt;
@@ -921,7 +932,7 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         const SiteSums sums = solver_.wall_sum_cache
                                   ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
                                   : site_sums(c, static_cast<std::int32_t>(kc), xi,
-                                              c.pose.inverse_apply(xi), d);
+                                              to_local(c.pose, unrotated, xi), d);
         density_[k] += sums.n;
         second_moment_[k] += sums.s2;
         w.grad = sums.grad;
@@ -1056,7 +1067,7 @@ void Nucleus::collider_frames(std::span<const Collider> moving) {
 Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
                                             const Vec3& x, double d) {
   const double tol = solver_.wall_sum_cache_tolerance * h_;
-  const Vec3 local = c.pose.inverse_apply(x);
+  const Vec3 local = to_local(c.pose, frame_identity_[kc] != 0, x);
   SiteSums* entries = &site_cache_[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];
   SiteSums* slot = nullptr;
   for (int e = 0; e < kMaxWallHitsPerParticle; ++e) {
@@ -1686,8 +1697,10 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       }
       const Pose& start = c.pose;
       const Pose& end = is_static ? c.pose : end_pose_[c_idx - n_static];
-      const Vec3 p0 = start.inverse_apply(x_start_[i]);
-      Vec3 p1 = end.inverse_apply(x_[i]);
+      const bool start_unrotated = frame_identity_[c_idx] != 0;
+      const bool end_unrotated = is_static ? start_unrotated : end_identity_[c_idx - n_static] != 0;
+      const Vec3 p0 = to_local(start, start_unrotated, x_start_[i]);
+      Vec3 p1 = to_local(end, end_unrotated, x_[i]);
       const double len = (p1 - p0).norm();
       // The start distance is the one setup_walls found for this particle's hit on c (the same
       // evaluation). For an exact distance (1-Lipschitz: not the sampled bone) a path shorter

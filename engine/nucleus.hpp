@@ -344,6 +344,7 @@ class Nucleus {
   double cache_turn_cos_ = 1.0;  // cos of half the wall-sum cache's turn limit
   static constexpr int kMaxMoving = 16;
   std::array<Pose, kMaxMoving> end_pose_;  // moving collider poses at the end of the step
+  std::array<std::uint8_t, kMaxMoving> end_identity_{};  // 1: that end pose is unrotated
 };
 
 }  // namespace acdr
