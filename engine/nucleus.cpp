@@ -366,6 +366,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   constraint_.assign(n, 0.0);
   press_coef_.assign(n, 0.0);
   visc_coef_.assign(n, 0.0);
+  s_pf_.assign(n, 0.0);
+  s_hv_.assign(n, 0.0);
   mass_l_.assign(n, 0.0);
   rhs_.assign(n, Vec3::Zero());
   diag_inv_.assign(n, {1, 1, 1, 0, 0, 0});
@@ -1205,26 +1207,34 @@ void Nucleus::assemble(double dt) {
     density_[k] = 0.0;  // outer particles: partial sums, never read
     second_moment_[k] = 0.0;
   }
-  // Neighbour sums: density (kernel units) and second moment.
+  // Neighbour sums: density (kernel units) and second moment. The kernels of `kernel` and
+  // `viscous_weight` inlined with the reciprocal radii (every near pair is inside both radii).
+  const double inv_R = 1.0 / R, inv_Rd = 1.0 / Rd;
+  const double slope_scale = -3.0 * inv_Rd / n0_;  // kernel_slope / n0 = slope_scale q^2
   for (std::size_t k = 0; k < nh_; ++k) density_[k] += 1.0;  // self
   for (std::size_t p = 0; p < near_; ++p) {
     const std::int32_t i = pair_i_[p], j = pair_j_[p];
     const double r = pair_r_[p];
-    const double w = kernel(r, Rd);
+    const double qd = std::max(0.0, 1.0 - r * inv_Rd);
+    const double w = qd * qd * qd;
+    const double qv = std::max(0.0, 1.0 - r * inv_R);
+    const double wv = qv * std::sqrt(qv);
+    const double m2 = wv * r * r;
     density_[i] += w;
     density_[j] += w;
-    pair_g_[p] = kernel_slope(r, Rd) / n0_;
-    const double wv = viscous_weight(r, R);
-    second_moment_[i] += wv * r * r;
-    second_moment_[j] += wv * r * r;
+    pair_g_[p] = slope_scale * qd * qd;
+    second_moment_[i] += m2;
+    second_moment_[j] += m2;
     pair_a_[p] = wv;
   }
   for (std::size_t p = far_begin; p < cap; ++p) {
     const std::int32_t i = pair_i_[p], j = pair_j_[p];
     const double r = pair_r_[p];
-    const double wv = viscous_weight(r, R);
-    second_moment_[i] += wv * r * r;
-    second_moment_[j] += wv * r * r;
+    const double qv = std::max(0.0, 1.0 - r * inv_R);
+    const double wv = qv * std::sqrt(qv);
+    const double m2 = wv * r * r;
+    second_moment_[i] += m2;
+    second_moment_[j] += m2;
     pair_a_[p] = wv;
   }
 
@@ -1300,24 +1310,44 @@ void Nucleus::assemble(double dt) {
   // iterations stream it, so its size sets their speed; rounding perturbs the operator by
   // ~1e-7 relative (far below the solve tolerance) and symmetrically (both ends of a pair read
   // the same record), so it stays symmetric positive definite.
+  // Per particle of the step: the pressure force factor dt kappa V max(C, 0) and half the
+  // viscous coefficient times dt (zero beyond the halo).
+  double* pf = s_pf_.data();
+  double* hv = s_hv_.data();
+  for (std::size_t k = 0; k < nl_; ++k) {
+    pf[k] = dt * kappa_[lg_[k]] * volume_ * std::max(constraint_[k], 0.0);
+    hv[k] = 0.5 * dt * visc_coef_[k];
+  }
+  const double* pc = press_coef_.data();
+  const double dt2 = dt * dt;
+  // Adds the pair's share a_i n n^T, a_j n n^T to the two diagonal blocks.
+  auto add_pair_outer = [&](std::int32_t i, std::int32_t j, double ai, double aj, const Vec3& nn) {
+    const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
+    const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
+    Sym3& di = diag_inv_[i];
+    di[0] += ai * xx; di[1] += ai * yy; di[2] += ai * zz;
+    di[3] += ai * xy; di[4] += ai * xz; di[5] += ai * yz;
+    Sym3& dj = diag_inv_[j];
+    dj[0] += aj * xx; dj[1] += aj * yy; dj[2] += aj * zz;
+    dj[3] += aj * xy; dj[4] += aj * xz; dj[5] += aj * yz;
+  };
   for (std::size_t p = 0; p < near_awake_; ++p) {
     const std::int32_t i = pair_i_[p], j = pair_j_[p];
     const Vec3& nn = pair_n_[p];
-    double a = pair_a_[p] * dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+    double a = pair_a_[p] * (hv[i] + hv[j]);
     const double g = pair_g_[p];
-    Vec3 f = (dt * (kappa_[lg_[i]] * volume_ * std::max(constraint_[i], 0.0) +
-                    kappa_[lg_[j]] * volume_ * std::max(constraint_[j], 0.0)) * g -
-              (s_[i] + s_[j]) * g) * nn;
+    double fs = ((pf[i] + pf[j]) - (s_[i] + s_[j])) * g;
     const std::int32_t b = pair_bond_[p];
     if (b >= 0) {
-      a += dt * dt * bond_k_[b];
-      f += dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * nn;
+      const double k = bond_k_[b];
+      a += dt2 * k;
+      fs += dt * k * (pair_r_[p] - bond_rest_[b]);
     }
-    pair_a_[p] = a;
+    const Vec3 f = fs * nn;
     rhs_[i] += f;
     rhs_[j] -= f;
-    add_outer(diag_inv_[i], a + press_coef_[j] * g * g, nn);
-    add_outer(diag_inv_[j], a + press_coef_[i] * g * g, nn);
+    const double g2 = g * g;
+    add_pair_outer(i, j, a + pc[j] * g2, a + pc[i] * g2, nn);
     q_[i] -= g * nn;
     q_[j] += g * nn;
     kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
@@ -1326,31 +1356,28 @@ void Nucleus::assemble(double dt) {
   for (std::size_t p = far_awake_begin; p < cap; ++p) {
     const std::int32_t i = pair_i_[p], j = pair_j_[p];
     const Vec3& nn = pair_n_[p];
-    double a = pair_a_[p] * dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
+    double a = pair_a_[p] * (hv[i] + hv[j]);
     const std::int32_t b = pair_bond_[p];
     if (b >= 0) {
-      a += dt * dt * bond_k_[b];
-      const Vec3 f = dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * nn;
+      const double k = bond_k_[b];
+      a += dt2 * k;
+      const Vec3 f = (dt * k * (pair_r_[p] - bond_rest_[b])) * nn;
       rhs_[i] += f;
       rhs_[j] -= f;
     }
-    pair_a_[p] = a;
-    add_outer(diag_inv_[i], a, nn);
-    add_outer(diag_inv_[j], a, nn);
+    add_pair_outer(i, j, a, a, nn);
     kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
                   static_cast<float>(nn.z()), static_cast<float>(a), 0.0f};
   }
   // Pairs without an awake particle never act on an awake row (coefficient 0); their density
-  // gradient still matters when a frozen particle moves (a full apply).
-  for (std::size_t p = near_awake_; p < near_; ++p) {
-    pair_a_[p] = 0.0;
-    kernel_[p] = {pair_j_[p], static_cast<float>(pair_n_[p].x()),
-                  static_cast<float>(pair_n_[p].y()), static_cast<float>(pair_n_[p].z()), 0.0f,
-                  static_cast<float>(pair_g_[p])};
-  }
-  for (std::size_t p = far_begin; p < far_awake_begin; ++p) {
-    pair_a_[p] = 0.0;
-    kernel_[p] = {pair_j_[p], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  // gradient still matters when a frozen particle moves (a full apply, the only reader).
+  if (frozen_moving_) {
+    for (std::size_t p = near_awake_; p < near_; ++p)
+      kernel_[p] = {pair_j_[p], static_cast<float>(pair_n_[p].x()),
+                    static_cast<float>(pair_n_[p].y()), static_cast<float>(pair_n_[p].z()), 0.0f,
+                    static_cast<float>(pair_g_[p])};
+    for (std::size_t p = far_begin; p < far_awake_begin; ++p)
+      kernel_[p] = {pair_j_[p], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
   }
   // Loose bonds cache their direction and implicit coefficient dt^2 k for the solver.
   for (std::size_t k = 0; k < loose_bonds_; ++k) {

@@ -259,7 +259,7 @@ class Nucleus {
   std::vector<std::int32_t> pair_i_, pair_j_;  // local indices
   std::vector<Vec3> pair_n_;           // unit vector i -> j
   std::vector<double> pair_r_;         // m
-  std::vector<double> pair_a_;         // implicit coefficient dt c_ij (+ dt^2 k of its bond)
+  std::vector<double> pair_a_;         // assemble scratch: the viscous weight w_ij
   std::vector<double> pair_g_;         // dW/dr / n0, 1/m (near pairs)
   std::vector<std::int32_t> pair_bond_;  // the pair's live bond, -1 if none
   // Rows: the pairs of local particle k are near [row_near_[k], row_near_[k+1]) and far
@@ -283,6 +283,8 @@ class Nucleus {
   std::vector<double> constraint_;     // nh: C_i = density/n0 - 1
   std::vector<double> press_coef_;     // nl: dt^2 kappa V if pressure active, else 0
   std::vector<double> visc_coef_;      // nl: 2 mu V s0 / (t0 S_i): viscous coefficient, N s/m
+  std::vector<double> s_pf_;           // nl: assemble scratch, dt kappa V max(C, 0)
+  std::vector<double> s_hv_;           // nl: assemble scratch, dt visc_coef / 2
   std::vector<double> mass_l_;         // na: kg
   std::vector<Vec3> rhs_;              // na
   std::vector<std::array<double, 6>> diag_inv_;  // na: inverse diagonal block (xx yy zz xy xz yz)
