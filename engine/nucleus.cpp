@@ -1737,13 +1737,14 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
                                             : static_cast<std::int32_t>(c_idx - n_static);
       std::size_t h = hit_cursor;
       while (h < hit_end && walls_[h].collider != hit_id) ++h;
-      if (h < hit_end && c.kind != ColliderKind::kSdfGrid &&
+      const bool known = h < hit_end;
+      if (known && c.kind != ColliderKind::kSdfGrid &&
           len <= walls_[h].distance - contact_ - 2.0 * tiny)
         continue;
       Vec3 n1;
       const double d1 = signed_distance_local(c, p1, &n1);
       Vec3 n0;
-      const double d0 = signed_distance_local(c, p0, &n0);
+      const double d0 = known ? walls_[h].distance : signed_distance_local(c, p0, &n0);
       // The path cannot reach the inflated surface (triangle inequality on distances).
       if (d1 >= contact_ - tiny && len <= d0 + d1 - 2.0 * contact_) continue;
       Vec3 normal;   // local normal of the face the particle is held on
@@ -1752,6 +1753,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       if (d0 < contact_) {
         // Started in contact: the exit side is the start side.
         if (d1 >= contact_ - tiny) continue;
+        if (known) signed_distance_local(c, p0, &n0);  // the start normal, in the local frame
         normal = n0;
         surface = p0 - d0 * n0;
         hit = true;
