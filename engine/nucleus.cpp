@@ -343,6 +343,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   const std::size_t row_cap = std::max<std::size_t>(64, n * (lattice * 3 / 2 + 8));
   row_j_.assign(row_cap, 0);
   row_bond_.assign(row_cap, -1);
+  row_scratch_j_.assign(4 * lattice + 64, 0);
+  row_scratch_b_.assign(4 * lattice + 64, 0);
+  row_scratch_bucket_.assign(4 * lattice + 64, 0);
+  row_upper_.assign(n, 0);
   row_used_ = 0;
   partner_bond_.assign(n, -1);
 
@@ -601,8 +605,47 @@ void Nucleus::ensure_row(std::int32_t i) {
     const std::int32_t b = bond_adj_[k];
     partner_bond_[bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b]] = -1;
   }
+  const std::size_t len = row_used_ - start;
   row_start_[i] = static_cast<std::int32_t>(start);
-  row_len_[i] = static_cast<std::int32_t>(row_used_ - start);
+  row_len_[i] = static_cast<std::int32_t>(len);
+  // Order (stable counting sort): neighbours of higher index first, then lower; within each,
+  // those inside the density radius, inside R, then beyond (at the build positions). See
+  // row_upper_; a row longer than the scratch stays unordered (ordering only saves time).
+  std::int32_t upper = 0;
+  if (len <= row_scratch_j_.size()) {
+    const double Rd2 = density_radius_ * density_radius_, R2 = radius_ * radius_;
+    std::array<std::int32_t, 7> count{};
+    for (std::size_t c = 0; c < len; ++c) {
+      const std::int32_t j = row_j_[start + c];
+      const double r2 = min_image(x_built_[j] - xi).squaredNorm();
+      const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
+      row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
+      row_scratch_j_[c] = j;
+      row_scratch_b_[c] = row_bond_[start + c];
+      ++count[bucket + 1];
+    }
+    for (int b = 0; b < 6; ++b) count[b + 1] += count[b];
+    upper = count[3];
+    for (std::size_t c = 0; c < len; ++c) {
+      const std::size_t at = start + count[row_scratch_bucket_[c]]++;
+      row_j_[at] = row_scratch_j_[c];
+      row_bond_[at] = row_scratch_b_[c];
+    }
+  } else {
+    // Unordered: upper/lower partition only (in place, order within the parts lost).
+    std::size_t lo = start, hi = row_used_;
+    while (lo < hi) {
+      if (row_j_[lo] > i) {
+        ++lo;
+      } else {
+        --hi;
+        std::swap(row_j_[lo], row_j_[hi]);
+        std::swap(row_bond_[lo], row_bond_[hi]);
+      }
+    }
+    upper = static_cast<std::int32_t>(lo - start);
+  }
+  row_upper_[i] = upper;
 }
 
 namespace {
@@ -708,7 +751,14 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
       active_[survivors++] = i;
     }
   }
-  for (std::size_t k = 0; k < woken; ++k) active_[survivors + k] = lg_[k];
+  // The awake list stays sorted by particle index (build_pairs relies on it): the woken ones,
+  // sorted, are merged in from the back.
+  std::sort(lg_.begin(), lg_.begin() + static_cast<std::ptrdiff_t>(woken));
+  std::size_t a = survivors, b = woken, out = survivors + woken;
+  while (b > 0) {
+    if (a > 0 && active_[a - 1] > lg_[b - 1]) active_[--out] = active_[--a];
+    else active_[--out] = lg_[--b];
+  }
   active_count_ = survivors + woken;
 }
 
@@ -772,7 +822,37 @@ void Nucleus::build_pairs() {
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     }
   };
-  for (std::size_t k = 0; k < na_; ++k) pair_row(k, nh_);
+  // Awake rows. The awake list is sorted by particle index, so an awake neighbour numbered
+  // below k is exactly an awake neighbour of lower index: the row's upper part (higher
+  // indices) is paired whole, its lower part only with particles that are not awake. Rows are
+  // ordered by distance within each part, so the range and near/far tests branch alike from
+  // row to row.
+  for (std::size_t k = 0; k < na_; ++k) {
+    const std::int32_t i = lg_[k];
+    ensure_row(i);
+    row_near_[k] = static_cast<std::int32_t>(near_);
+    row_far_[k] = static_cast<std::int32_t>(far_);
+    const std::int32_t* rj = row_j_.data() + row_start_[i];
+    const std::int32_t* rb = row_bond_.data() + row_start_[i];
+    const std::int32_t upper = row_upper_[i];
+    const Vec3 xi = x_[i];
+    auto visit = [&](std::int32_t c) {
+      const std::int32_t j = rj[c];
+      const Vec3 d = min_image(x_[j] - xi);
+      const double r2 = d.squaredNorm();
+      if (r2 >= R2 || r2 <= 0.0) return;
+      std::int32_t lj = local_[j];
+      if (lj < 0) {
+        lj = static_cast<std::int32_t>(nh_++);
+        local_[j] = lj;
+        lg_[lj] = j;
+      }
+      emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
+    };
+    for (std::int32_t c = 0; c < upper; ++c) visit(c);
+    for (std::int32_t c = upper; c < row_len_[i]; ++c)
+      if (!awake_[rj[c]]) visit(c);
+  }
   near_awake_ = near_;
   far_awake_ = far_;
   nl_ = nh_;

@@ -236,6 +236,11 @@ class Nucleus {
   std::vector<std::int32_t> row_len_;      // N
   std::vector<std::int32_t> row_j_;        // pool: candidate particle
   std::vector<std::int32_t> row_bond_;     // pool: their bond (any state), -1 if none
+  // N: how many of row i's entries (its first ones) have an index above i; each part of the
+  // row is ordered inside the density radius / inside R / beyond, at the grid build.
+  std::vector<std::int32_t> row_upper_;
+  std::vector<std::int32_t> row_scratch_j_, row_scratch_b_;  // one row, for ordering it
+  std::vector<std::uint8_t> row_scratch_bucket_;
   std::size_t row_used_ = 0;
   std::vector<std::int32_t> partner_bond_; // N, scratch (-1)
   bool pairs_overflow_ = false;
