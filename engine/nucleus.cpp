@@ -211,6 +211,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   site_r2_.clear();
   site_wv_.clear();
   site_len_.clear();
+  site_uu_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -227,6 +228,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         site_wv_.push_back(wv);
         site_r2_.push_back(r * r);
         site_len_.push_back(r);
+        const Vec3 u = h_ * Vec3(a, b, c) / r;
+        site_uu_.push_back(u * u.transpose());
       }
 
   build_wall_table();
@@ -1094,7 +1097,8 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
 Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const Vec3& x,
                                      const Vec3& local, double d) const {
   SiteSums sums;
-  const double d_eff = std::max(d, 0.25 * h_);
+  const double inv_d_eff = 1.0 / std::max(d, 0.25 * h_);
+  const double inv_n0 = 1.0 / n0_;
   const double half = 0.5 * h_;
   const bool identity = frame_identity_[kc] != 0;
   const Vec3* offsets = identity ? site_offset_.data() : &site_local_[kc * site_offset_.size()];
@@ -1117,9 +1121,8 @@ Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const V
     if (occ <= 0.0) continue;
     sums.n += occ * site_w_[o];
     sums.s2 += occ * site_wv_[o] * site_r2_[o];
-    grad_local += (slope * site_w_[o] / n0_) * nq;
-    const Vec3 u = site_offset_[o] / site_len_[o];
-    sums.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
+    grad_local += (slope * site_w_[o] * inv_n0) * nq;
+    sums.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) * inv_d_eff)) * site_uu_[o];
   }
   sums.grad = identity ? grad_local : Vec3(c.pose.orientation * grad_local);
   return sums;

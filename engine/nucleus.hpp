@@ -174,6 +174,7 @@ class Nucleus {
   std::vector<double> site_r2_;    // their squared lengths, m^2
   std::vector<double> site_wv_;    // their viscous weights
   std::vector<double> site_len_;   // their lengths, m
+  std::vector<Eigen::Matrix3d> site_uu_;  // u u^T of their unit directions u
   std::array<WallTableEntry, 1024> wall_table_{};  // flat-face wall sums over d
   double wall_table_lo_ = 0.0, wall_table_step_ = 1.0;
 
