@@ -793,7 +793,7 @@ void Nucleus::build_pairs() {
     pair_i_[p] = li;
     pair_j_[p] = lj;
     pair_r_[p] = r;
-    pair_n_[p] = d / r;
+    pair_n_[p] = d * (1.0 / r);
     if (bond >= 0 && !bond_alive_[bond]) bond = -1;
     pair_bond_[p] = bond;
     if (bond >= 0 && loose_possible_) bond_in_pair_[bond] = 1;
@@ -1908,30 +1908,33 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
 // Bonds break when their force exceeds k * delta_max, i.e. |stretch| > delta_max
 // (seed Eq. 9-10). Only bonds of awake or fixed particles can have changed length.
 void Nucleus::break_bonds() {
-  auto moves = [&](std::int32_t i) { return awake_[i] || fixed_[i]; };
-  auto visit = [&](std::int32_t u) {
-    for (std::int32_t a = bond_adj_start_[u]; a < bond_adj_start_[u + 1]; ++a) {
-      const std::int32_t b = bond_adj_[a];
-      if (!bond_alive_[b] || bond_break_[b] <= 0.0) continue;
-      const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-      const std::int32_t other = i == u ? j : i;
-      if (moves(other) && other < u) continue;  // visited from the other end
-      // |r - L| > delta  <=>  r^2 > (L + delta)^2 or r^2 < (L - delta)^2 (the latter only
-      // when L > delta): no square root per bond.
-      const double r2 = min_image(x_[j] - x_[i]).squaredNorm();
-      if (r2 > bond_break_hi2_[b] || r2 < bond_break_lo2_[b]) {
-        bond_alive_[b] = 0;
-        ++broken_;
-        for (const std::int32_t e : {i, j}) {
-          if (fixed_[e] || wake_next_[e]) continue;
-          wake_next_[e] = 1;
-          wake_list_[wake_count_++] = e;
-        }
+  auto test = [&](std::int32_t b) {
+    if (!bond_alive_[b] || bond_break_[b] <= 0.0) return;
+    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
+    // |r - L| > delta  <=>  r^2 > (L + delta)^2 or r^2 < (L - delta)^2 (the latter only
+    // when L > delta): no square root per bond.
+    const double r2 = min_image(x_[j] - x_[i]).squaredNorm();
+    if (r2 > bond_break_hi2_[b] || r2 < bond_break_lo2_[b]) {
+      bond_alive_[b] = 0;
+      ++broken_;
+      for (const std::int32_t e : {i, j}) {
+        if (fixed_[e] || wake_next_[e]) continue;
+        wake_next_[e] = 1;
+        wake_list_[wake_count_++] = e;
       }
     }
   };
-  for (std::size_t k = 0; k < active_count_; ++k) visit(active_[k]);
-  for (const std::int32_t i : fixed_list_) visit(i);
+  // Every live bond of an awake particle is carried by exactly one of this step's pairs with
+  // an awake particle (it was shorter than R at the start) or is a loose bond.
+  for (std::size_t p = 0; p < near_awake_; ++p)
+    if (pair_bond_[p] >= 0) test(pair_bond_[p]);
+  for (std::size_t p = pair_cap_ - far_awake_; p < pair_cap_; ++p)
+    if (pair_bond_[p] >= 0) test(pair_bond_[p]);
+  for (std::size_t k = 0; k < loose_bonds_; ++k) test(loose_[k]);
+  // Fixed particles move too: all their bonds (one shared with an awake particle is tested
+  // again, with the same result).
+  for (const std::int32_t u : fixed_list_)
+    for (std::int32_t a = bond_adj_start_[u]; a < bond_adj_start_[u + 1]; ++a) test(bond_adj_[a]);
 }
 
 }  // namespace acdr
