@@ -1294,31 +1294,40 @@ void Nucleus::assemble(double dt) {
   // `viscous_weight` inlined with the reciprocal radii (every near pair is inside both radii).
   const double inv_R = 1.0 / R, inv_Rd = 1.0 / Rd;
   const double slope_scale = -3.0 * inv_Rd / n0_;  // kernel_slope / n0 = slope_scale q^2
-  for (std::size_t k = 0; k < nh_; ++k) density_[k] += 1.0;  // self
-  for (std::size_t p = 0; p < near_; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const double r = pair_r_[p];
-    const double qd = std::max(0.0, 1.0 - r * inv_Rd);
-    const double w = qd * qd * qd;
-    const double qv = std::max(0.0, 1.0 - r * inv_R);
-    const double wv = qv * std::sqrt(qv);
-    const double m2 = wv * r * r;
-    density_[i] += w;
-    density_[j] += w;
-    pair_g_[p] = slope_scale * qd * qd;
-    second_moment_[i] += m2;
-    second_moment_[j] += m2;
-    pair_a_[p] = wv;
-  }
-  for (std::size_t p = far_begin; p < cap; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const double r = pair_r_[p];
-    const double qv = std::max(0.0, 1.0 - r * inv_R);
-    const double wv = qv * std::sqrt(qv);
-    const double m2 = wv * r * r;
-    second_moment_[i] += m2;
-    second_moment_[j] += m2;
-    pair_a_[p] = wv;
+  // Row by row (every pair of row k has k as its first end), the first end's sums in
+  // registers.
+  const std::int32_t* pj = pair_j_.data();
+  const double* pr = pair_r_.data();
+  for (std::size_t k = 0; k < nh_; ++k) {
+    double dk = 1.0;  // self
+    double mk = 0.0;
+    for (std::int32_t p = row_near_[k]; p < row_near_[k + 1]; ++p) {
+      const std::int32_t j = pj[p];
+      const double r = pr[p];
+      const double qd = std::max(0.0, 1.0 - r * inv_Rd);
+      const double w = qd * qd * qd;
+      const double qv = std::max(0.0, 1.0 - r * inv_R);
+      const double wv = qv * std::sqrt(qv);
+      const double m2 = wv * r * r;
+      dk += w;
+      density_[j] += w;
+      pair_g_[p] = slope_scale * qd * qd;
+      mk += m2;
+      second_moment_[j] += m2;
+      pair_a_[p] = wv;
+    }
+    for (std::size_t p = cap - row_far_[k + 1]; p < cap - row_far_[k]; ++p) {
+      const std::int32_t j = pj[p];
+      const double r = pr[p];
+      const double qv = std::max(0.0, 1.0 - r * inv_R);
+      const double wv = qv * std::sqrt(qv);
+      const double m2 = wv * r * r;
+      mk += m2;
+      second_moment_[j] += m2;
+      pair_a_[p] = wv;
+    }
+    density_[k] += dk;
+    second_moment_[k] += mk;
   }
 
   // Per particle. Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth
@@ -1403,54 +1412,67 @@ void Nucleus::assemble(double dt) {
   }
   const double* pc = press_coef_.data();
   const double dt2 = dt * dt;
-  // Adds the pair's share a_i n n^T, a_j n n^T to the two diagonal blocks.
-  auto add_pair_outer = [&](std::int32_t i, std::int32_t j, double ai, double aj, const Vec3& nn) {
-    const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
-    const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
-    Sym3& di = diag_inv_[i];
-    di[0] += ai * xx; di[1] += ai * yy; di[2] += ai * zz;
-    di[3] += ai * xy; di[4] += ai * xz; di[5] += ai * yz;
-    Sym3& dj = diag_inv_[j];
-    dj[0] += aj * xx; dj[1] += aj * yy; dj[2] += aj * zz;
-    dj[3] += aj * xy; dj[4] += aj * xz; dj[5] += aj * yz;
-  };
-  for (std::size_t p = 0; p < near_awake_; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const Vec3& nn = pair_n_[p];
-    double a = pair_a_[p] * (hv[i] + hv[j]);
-    const double g = pair_g_[p];
-    double fs = ((pf[i] + pf[j]) - (s_[i] + s_[j])) * g;
-    const std::int32_t b = pair_bond_[p];
-    if (b >= 0) {
-      const double k = bond_k_[b];
-      a += dt2 * k;
-      fs += dt * k * (pair_r_[p] - bond_rest_[b]);
-    }
-    const Vec3 f = fs * nn;
-    rhs_[i] += f;
-    rhs_[j] -= f;
-    const double g2 = g * g;
-    add_pair_outer(i, j, a + pc[j] * g2, a + pc[i] * g2, nn);
-    q_[i] -= g * nn;
-    q_[j] += g * nn;
-    kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                  static_cast<float>(nn.z()), static_cast<float>(a), static_cast<float>(g)};
-  }
-  for (std::size_t p = far_awake_begin; p < cap; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const Vec3& nn = pair_n_[p];
-    double a = pair_a_[p] * (hv[i] + hv[j]);
-    const std::int32_t b = pair_bond_[p];
-    if (b >= 0) {
-      const double k = bond_k_[b];
-      a += dt2 * k;
-      const Vec3 f = (dt * k * (pair_r_[p] - bond_rest_[b])) * nn;
-      rhs_[i] += f;
+  // Row by row over the awake particles (their rows hold exactly the pairs with an awake
+  // particle), the first end's sums in registers.
+  for (std::size_t k = 0; k < nh_; ++k) pf[k] -= s_[k];  // pressure force less wall motion
+  for (std::size_t i = 0; i < na_; ++i) {
+    const double hv_i = hv[i], pf_i = pf[i], pc_i = pc[i];
+    Vec3 rhs_i = Vec3::Zero();
+    Vec3 q_i = Vec3::Zero();
+    double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0, d4 = 0.0, d5 = 0.0;
+    for (std::int32_t p = row_near_[i]; p < row_near_[i + 1]; ++p) {
+      const std::int32_t j = pj[p];
+      const Vec3& nn = pair_n_[p];
+      double a = pair_a_[p] * (hv_i + hv[j]);
+      const double g = pair_g_[p];
+      double fs = (pf_i + pf[j]) * g;
+      const std::int32_t b = pair_bond_[p];
+      if (b >= 0) {
+        const double k = bond_k_[b];
+        a += dt2 * k;
+        fs += dt * k * (pr[p] - bond_rest_[b]);
+      }
+      const Vec3 f = fs * nn;
+      rhs_i += f;
       rhs_[j] -= f;
+      const double g2 = g * g;
+      const double ai = a + pc[j] * g2, aj = a + pc_i * g2;
+      const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
+      const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
+      d0 += ai * xx; d1 += ai * yy; d2 += ai * zz; d3 += ai * xy; d4 += ai * xz; d5 += ai * yz;
+      Sym3& dj = diag_inv_[j];
+      dj[0] += aj * xx; dj[1] += aj * yy; dj[2] += aj * zz;
+      dj[3] += aj * xy; dj[4] += aj * xz; dj[5] += aj * yz;
+      q_i -= g * nn;
+      q_[j] += g * nn;
+      kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                    static_cast<float>(nn.z()), static_cast<float>(a), static_cast<float>(g)};
     }
-    add_pair_outer(i, j, a, a, nn);
-    kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                  static_cast<float>(nn.z()), static_cast<float>(a), 0.0f};
+    for (std::size_t p = cap - row_far_[i + 1]; p < cap - row_far_[i]; ++p) {
+      const std::int32_t j = pj[p];
+      const Vec3& nn = pair_n_[p];
+      double a = pair_a_[p] * (hv_i + hv[j]);
+      const std::int32_t b = pair_bond_[p];
+      if (b >= 0) {
+        const double k = bond_k_[b];
+        a += dt2 * k;
+        const Vec3 f = (dt * k * (pr[p] - bond_rest_[b])) * nn;
+        rhs_i += f;
+        rhs_[j] -= f;
+      }
+      const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
+      const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
+      d0 += a * xx; d1 += a * yy; d2 += a * zz; d3 += a * xy; d4 += a * xz; d5 += a * yz;
+      Sym3& dj = diag_inv_[j];
+      dj[0] += a * xx; dj[1] += a * yy; dj[2] += a * zz;
+      dj[3] += a * xy; dj[4] += a * xz; dj[5] += a * yz;
+      kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                    static_cast<float>(nn.z()), static_cast<float>(a), 0.0f};
+    }
+    rhs_[i] += rhs_i;
+    q_[i] += q_i;
+    Sym3& di = diag_inv_[i];
+    di[0] += d0; di[1] += d1; di[2] += d2; di[3] += d3; di[4] += d4; di[5] += d5;
   }
   // Pairs without an awake particle never act on an awake row (coefficient 0); their density
   // gradient still matters when a frozen particle moves (a full apply, the only reader).
