@@ -365,6 +365,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   pair_g_.assign(pair_cap_, 0.0);
   pair_bond_.assign(pair_cap_, -1);
   kernel_.assign(pair_cap_, PairKernel{0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  pair_dn_.assign(pair_cap_, 0.0);
   row_near_.assign(n + 1, 0);
   row_far_.assign(n + 1, 0);
 
@@ -1534,27 +1535,26 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     y[i] -= f;
     y[j] += f;
   }
-  // Viscosity and pair bonds (a n n^T on the relative velocity), and on near pairs the
-  // divergence pass of the pressure.
+  // Far pairs: viscosity and pair bonds (a n n^T on the relative velocity). Near pairs, first
+  // pass: the divergence of the pressure (s), keeping each pair's relative normal velocity dn.
   const PairKernel* kr = kernel_.data();
   const std::int32_t* rn = row_near_.data();
   const std::int32_t* rf = row_far_.data();
+  double* dnp = pair_dn_.data();
   for (std::size_t i = 0; i < rows; ++i) {
     const Vec3 xi = x[i];
-    Vec3 yi = Vec3::Zero();
     double si = 0.0;
     for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
       const PairKernel& e = kr[p];
-      const Vec3 nn(e.nx, e.ny, e.nz);
-      const double dn = nn.dot(x[e.j] - xi);
-      const Vec3 f = (e.a * dn) * nn;
-      yi -= f;
-      y[e.j] += f;
+      const double dn = Vec3(e.nx, e.ny, e.nz).dot(x[e.j] - xi);
+      dnp[p] = dn;
       const double div = e.g * dn;
       si += div;
       s[e.j] += div;
     }
+    s[i] += si;
     // Far pairs of row i sit at [cap - rf[i+1], cap - rf[i]).
+    Vec3 yi = Vec3::Zero();
     for (std::size_t p = cap - rf[i + 1]; p < cap - rf[i]; ++p) {
       const PairKernel& e = kr[p];
       const Vec3 nn(e.nx, e.ny, e.nz);
@@ -1563,9 +1563,9 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
       y[e.j] += f;
     }
     y[i] += yi;
-    s[i] += si;
   }
-  // Gradient pass: y += sum_k coef_k (grad C_k . x) grad C_k.
+  // Near pairs, second pass: the viscous and bond force a dn n together with the gradient
+  // pass of the pressure, y += sum_k coef_k (grad C_k . x) grad C_k, in one scattered update.
   const double* pc = press_coef_.data();
   for (std::size_t k = 0; k < span; ++k) s[k] *= pc[k];
   for (std::size_t w = 0; w < wall_particles_; ++w) {
@@ -1577,9 +1577,9 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     Vec3 yi = Vec3::Zero();
     for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
       const PairKernel& e = kr[p];
-      const Vec3 g = ((si + s[e.j]) * e.g) * Vec3(e.nx, e.ny, e.nz);
-      yi -= g;
-      y[e.j] += g;
+      const Vec3 f = (e.a * dnp[p] + (si + s[e.j]) * e.g) * Vec3(e.nx, e.ny, e.nz);
+      yi -= f;
+      y[e.j] += f;
     }
     y[i] += yi;
   }

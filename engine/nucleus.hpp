@@ -279,6 +279,7 @@ class Nucleus {
     float g;  // dW/dr / n0 (near pairs), 0 for far ones
   };
   std::vector<PairKernel> kernel_;
+  std::vector<double> pair_dn_;  // apply scratch: n . (x_j - x_i) of the near pairs
   std::size_t pair_cap_ = 0;
   std::size_t near_ = 0, near_awake_ = 0, far_ = 0, far_awake_ = 0;
   std::size_t pairs_ = 0;
