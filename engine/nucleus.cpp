@@ -477,8 +477,8 @@ Vec3 Nucleus::min_image(const Vec3& d) const {
 // Performance layout (issue 5). Only the particles a step needs take part in it: the awake
 // ones, the halo of sleeping particles within R of them, and the outer neighbours of the
 // halo, numbered compactly (local indices) so the solver's vectors are contiguous. Neighbours
-// come from per-particle Verlet rows (R + skin) that are rebuilt only after something moved
-// half a skin; pairs are split into those with an awake particle (all the solver's iterations
+// come from per-particle Verlet rows (R + skin) that are rebuilt only after two particles
+// moved a skin together; pairs are split into those with an awake particle (all the solver's iterations
 // need) and the rest (only for densities). Nothing here loops over all particles or all bonds.
 
 void Nucleus::step(double dt, std::span<const Collider> moving,
@@ -546,21 +546,30 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   break_bonds();
 }
 
-// The grid of the Verlet rows is rebuilt once a particle has moved skin / 2 since the last
-// build (then no pair closer than R can be missing from the rows: each end moved less than
-// skin / 2). Only awake and fixed particles move, so only they are checked.
+// The grid of the Verlet rows is rebuilt once two particles together have moved a skin since
+// the last build: a pair closer than R now was closer than R + |dx_i| + |dx_j| then, so no
+// such pair can be missing from the rows while the two largest displacements sum to less than
+// the skin (the usual test, every particle within skin / 2, is the special case of equal
+// ones; this one tolerates a few fast particles among slow ones). Only awake and fixed
+// particles move; those that fell asleep keep the displacement they had (frozen_disp2_).
 void Nucleus::update_grid() {
-  bool rebuild = !grid_valid_;
-  const double half_skin2 = 0.25 * skin_ * skin_;
-  for (std::size_t k = 0; k < active_count_ && !rebuild; ++k) {
-    const std::int32_t i = active_[k];
-    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
-  }
-  for (std::size_t k = 0; k < fixed_list_.size() && !rebuild; ++k) {
-    const std::int32_t i = fixed_list_[k];
-    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
-  }
+  double m1 = frozen_disp2_[0], m2 = frozen_disp2_[1];  // two largest squared displacements
+  auto note = [&](std::int32_t i) {
+    const double d2 = min_image(x_[i] - x_built_[i]).squaredNorm();
+    if (!(d2 <= m2)) {  // NaN counts as largest
+      if (!(d2 <= m1)) {
+        m2 = m1;
+        m1 = d2;
+      } else {
+        m2 = d2;
+      }
+    }
+  };
+  for (std::size_t k = 0; k < active_count_; ++k) note(active_[k]);
+  for (const std::int32_t i : fixed_list_) note(i);
+  const bool rebuild = !grid_valid_ || !(std::sqrt(m1) + std::sqrt(m2) < skin_);
   if (!rebuild) return;
+  frozen_disp2_ = {0.0, 0.0};
   grid_.build(x_, radius_ + skin_, options_.periodic, options_.periodic_min_m,
               options_.periodic_max_m);
   std::copy(x_.begin(), x_.end(), x_built_.begin());
@@ -594,13 +603,23 @@ void Nucleus::ensure_row(std::int32_t i) {
   const std::size_t start = row_used_;
   const std::size_t cap = row_j_.size();
   const Vec3 xi = x_built_[i];
+  // Each entry's ordering bucket (see below): higher index first, then lower; within each,
+  // inside the density radius, inside R, then beyond (at the build positions).
+  const double Rd2 = density_radius_ * density_radius_, R2 = radius_ * radius_;
+  const std::size_t scratch = row_scratch_j_.size();
+  std::array<std::int32_t, 7> count{};
   grid_.for_each_near(xi, [&](std::int32_t j, const Vec3& xj) {
     if (j == i) return;
-    if (!(min_image(xj - xi).squaredNorm() < reach2)) return;
+    const double r2 = min_image(xj - xi).squaredNorm();
+    if (!(r2 < reach2)) return;
     if (row_used_ >= cap) {
       pairs_overflow_ = true;
       return;
     }
+    const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
+    const std::size_t c = row_used_ - start;
+    if (c < scratch) row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
+    ++count[bucket + 1];
     row_j_[row_used_] = j;
     row_bond_[row_used_] = partner_bond_[j];
     ++row_used_;
@@ -612,22 +631,12 @@ void Nucleus::ensure_row(std::int32_t i) {
   const std::size_t len = row_used_ - start;
   row_start_[i] = static_cast<std::int32_t>(start);
   row_len_[i] = static_cast<std::int32_t>(len);
-  // Order (stable counting sort): neighbours of higher index first, then lower; within each,
-  // those inside the density radius, inside R, then beyond (at the build positions). See
-  // row_upper_; a row longer than the scratch stays unordered (ordering only saves time).
+  // Order by bucket (stable counting sort; see row_upper_). A row longer than the scratch is
+  // only split into its upper and lower parts (the ordering only saves time).
   std::int32_t upper = 0;
-  if (len <= row_scratch_j_.size()) {
-    const double Rd2 = density_radius_ * density_radius_, R2 = radius_ * radius_;
-    std::array<std::int32_t, 7> count{};
-    for (std::size_t c = 0; c < len; ++c) {
-      const std::int32_t j = row_j_[start + c];
-      const double r2 = min_image(x_built_[j] - xi).squaredNorm();
-      const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
-      row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
-      row_scratch_j_[c] = j;
-      row_scratch_b_[c] = row_bond_[start + c];
-      ++count[bucket + 1];
-    }
+  if (len <= scratch) {
+    std::copy(row_j_.begin() + start, row_j_.begin() + row_used_, row_scratch_j_.begin());
+    std::copy(row_bond_.begin() + start, row_bond_.begin() + row_used_, row_scratch_b_.begin());
     for (int b = 0; b < 6; ++b) count[b + 1] += count[b];
     upper = count[3];
     for (std::size_t c = 0; c < len; ++c) {
@@ -728,8 +737,9 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
     };
     Vec3 lo, hi;
     if (collider_bounds(c, &lo, &hi)) {
-      // The grid holds positions up to skin / 2 old: the query box is widened by that.
-      const Vec3 pad = Vec3::Constant(sleep_d + 0.5 * skin_);
+      // The grid holds old positions: the query box is widened by how far they can be off
+      // (Up to a skin old: see update_grid.)
+      const Vec3 pad = Vec3::Constant(sleep_d + skin_);
       grid_.for_each_in_box(lo - pad, hi + pad, [&](std::int32_t j, const Vec3&) { test(j); });
     } else {
       for (std::size_t j = 0; j < n; ++j) test(static_cast<std::int32_t>(j));
@@ -751,6 +761,12 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
     if (calm_[i] >= kCalmStepsToSleep) {
       awake_[i] = 0;
       v_[i] = Vec3::Zero();
+      // Its displacement since the grid build stays in the rebuild test (update_grid).
+      const double d2 = min_image(x_[i] - x_built_[i]).squaredNorm();
+      if (d2 > frozen_disp2_[1]) {
+        frozen_disp2_[1] = d2;
+        if (frozen_disp2_[1] > frozen_disp2_[0]) std::swap(frozen_disp2_[0], frozen_disp2_[1]);
+      }
     } else {
       active_[survivors++] = i;
     }

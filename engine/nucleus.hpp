@@ -49,8 +49,8 @@ struct NucleusOptions {
   Vec3 periodic_max_m = Vec3::Zero();
   /// Upper bound of neighbour pairs per particle (pairs capacity = N * this / 2).
   int max_neighbors = 48;
-  /// Verlet skin in units of h: candidate pairs are kept within R + skin and rebuilt once a
-  /// particle has moved skin / 2.
+  /// Verlet skin in units of h: candidate pairs are kept within R + skin and rebuilt once the
+  /// two largest displacements since the last build sum to a skin.
   double skin_factor = 0.3;
 };
 
@@ -225,12 +225,14 @@ class Nucleus {
 
   // ---- Neighbour rows: a Verlet list (Verlet 1967) per particle ----
   // Row i holds every particle within R + skin of i at the last grid build. Rows stay exact
-  // until a particle has moved skin / 2 since that build; then the grid is rebuilt and rows
-  // are recomputed lazily, only for particles that take part in a step.
+  // until two particles have moved a skin together since that build (update_grid); then the
+  // grid is rebuilt and rows are recomputed lazily, only for particles that take part in a step.
   double skin_ = 0.0;
   ParticleGrid grid_;
   std::vector<Vec3> x_built_;              // N, positions at the last grid build
   bool grid_valid_ = false;
+  // Two largest squared displacements since the build of particles that fell asleep, m^2.
+  std::array<double, 2> frozen_disp2_ = {0.0, 0.0};
   std::uint32_t epoch_ = 0;                // grid builds so far
   std::vector<std::uint32_t> row_epoch_;   // N, epoch a row was computed in (0: none)
   std::vector<std::int32_t> row_start_;    // N, offset into row_j_
