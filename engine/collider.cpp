@@ -13,27 +13,35 @@ namespace {
 
 /// Exact signed distance to an axis-aligned box of half extents `b` centred at the origin.
 double box_distance(const Vec3& p, const Vec3& b, Vec3* normal) {
-  const Vec3 q = p.cwiseAbs() - b;
-  if ((q.array() > 0.0).any()) {
+  // Scalar form (the nucleus calls this for every lattice site near a box).
+  const double qx = std::abs(p.x()) - b.x(), qy = std::abs(p.y()) - b.y(),
+               qz = std::abs(p.z()) - b.z();
+  if (qx > 0.0 || qy > 0.0 || qz > 0.0) {
     // Outside: distance to the nearest point of the box.
-    const Vec3 outside = q.cwiseMax(0.0);
-    const double d = outside.norm();
+    const double ox = std::max(qx, 0.0), oy = std::max(qy, 0.0), oz = std::max(qz, 0.0);
+    const double d = std::sqrt(ox * ox + oy * oy + oz * oz);
     if (normal) {
-      Vec3 n(std::copysign(outside.x(), p.x()), std::copysign(outside.y(), p.y()),
-             std::copysign(outside.z(), p.z()));
-      *normal = n / d;
+      *normal = Vec3(std::copysign(ox, p.x()) / d, std::copysign(oy, p.y()) / d,
+                     std::copysign(oz, p.z()) / d);
     }
     return d;
   }
   // Inside: the nearest face is the one with the largest (least negative) q.
   int axis = 0;
-  if (q.y() > q[axis]) axis = 1;
-  if (q.z() > q[axis]) axis = 2;
+  double q = qx;
+  if (qy > q) {
+    axis = 1;
+    q = qy;
+  }
+  if (qz > q) {
+    axis = 2;
+    q = qz;
+  }
   if (normal) {
     *normal = Vec3::Zero();
     (*normal)[axis] = p[axis] >= 0.0 ? 1.0 : -1.0;
   }
-  return q[axis];
+  return q;
 }
 
 /// Capsule around the local z segment [-half_length, half_length].

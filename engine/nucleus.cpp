@@ -116,6 +116,12 @@ Pose advance(const Pose& p, const Vec3& v, const Vec3& w, double dt) {
   return out;
 }
 
+/// World point x in a pose's frame; `identity`: the pose is unrotated, and the rotation (exact
+/// for the identity quaternion) is skipped.
+inline Vec3 to_local(const Pose& pose, bool identity, const Vec3& x) {
+  return identity ? Vec3(x - pose.position) : pose.inverse_apply(x);
+}
+
 inline bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
 }  // namespace
@@ -205,6 +211,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   site_r2_.clear();
   site_wv_.clear();
   site_len_.clear();
+  site_uu_.clear();
   const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
@@ -221,6 +228,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
         site_wv_.push_back(wv);
         site_r2_.push_back(r * r);
         site_len_.push_back(r);
+        const Vec3 u = h_ * Vec3(a, b, c) / r;
+        site_uu_.push_back(u * u.transpose());
       }
 
   build_wall_table();
@@ -282,6 +291,16 @@ void Nucleus::init(std::span<const Collider> static_colliders,
     bond_k_[b] = bond.stiffness_N_m;
     bond_break_[b] = bond.break_stretch_m;
   }
+  // Squared lengths at which each bond breaks (break_bonds), 0 and +inf when unbreakable.
+  bond_break_hi2_.assign(nb, std::numeric_limits<double>::infinity());
+  bond_break_lo2_.assign(nb, 0.0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (bond_break_[b] <= 0.0) continue;
+    const double hi = bond_rest_[b] + bond_break_[b], lo = bond_rest_[b] - bond_break_[b];
+    bond_break_hi2_[b] = hi * hi;
+    bond_break_lo2_[b] = lo > 0.0 ? lo * lo : 0.0;
+  }
+  periodic_ = options_.periodic[0] || options_.periodic[1] || options_.periodic[2];
   loose_possible_ = false;
   for (std::size_t b = 0; b < nb; ++b)
     if (bond_break_[b] <= 0.0 || bond_rest_[b] + bond_break_[b] >= radius_) loose_possible_ = true;
@@ -327,6 +346,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   const std::size_t row_cap = std::max<std::size_t>(64, n * (lattice * 3 / 2 + 8));
   row_j_.assign(row_cap, 0);
   row_bond_.assign(row_cap, -1);
+  row_scratch_j_.assign(4 * lattice + 64, 0);
+  row_scratch_b_.assign(4 * lattice + 64, 0);
+  row_scratch_bucket_.assign(4 * lattice + 64, 0);
+  row_upper_.assign(n, 0);
   row_used_ = 0;
   partner_bond_.assign(n, -1);
 
@@ -342,6 +365,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   pair_g_.assign(pair_cap_, 0.0);
   pair_bond_.assign(pair_cap_, -1);
   kernel_.assign(pair_cap_, PairKernel{0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
+  pair_dn_.assign(pair_cap_, 0.0);
   row_near_.assign(n + 1, 0);
   row_far_.assign(n + 1, 0);
 
@@ -350,6 +374,8 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   constraint_.assign(n, 0.0);
   press_coef_.assign(n, 0.0);
   visc_coef_.assign(n, 0.0);
+  s_pf_.assign(n, 0.0);
+  s_hv_.assign(n, 0.0);
   mass_l_.assign(n, 0.0);
   rhs_.assign(n, Vec3::Zero());
   diag_inv_.assign(n, {1, 1, 1, 0, 0, 0});
@@ -369,12 +395,16 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   con_e_.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   con_v_.assign(n, Vec3::Zero());
   con_slot_.assign(n, -1);
+  con_av_.assign(n, Vec3::Zero());
+  con_aq_.assign(n, Vec3::Zero());
   con_particles_ = 0;
   near_colliders_.assign(n, 0);
   all_colliders_.assign(n, 0);
   walls_.resize(kMaxWallHitsPerParticle * n + 16);
   site_cache_.assign(kMaxWallHitsPerParticle * n, SiteSums{});
   site_cache_next_.assign(n, 0);
+  site_local_.assign(32 * site_offset_.size(), Vec3::Zero());
+  cache_turn_cos_ = std::cos(0.5 * solver_.wall_sum_cache_tolerance * h_ / radius_);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -431,6 +461,7 @@ std::uint64_t Nucleus::state_hash() const {
 }
 
 Vec3 Nucleus::min_image(const Vec3& d) const {
+  if (!periodic_) return d;
   Vec3 out = d;
   for (int a = 0; a < 3; ++a) {
     if (!options_.periodic[a]) continue;
@@ -446,8 +477,8 @@ Vec3 Nucleus::min_image(const Vec3& d) const {
 // Performance layout (issue 5). Only the particles a step needs take part in it: the awake
 // ones, the halo of sleeping particles within R of them, and the outer neighbours of the
 // halo, numbered compactly (local indices) so the solver's vectors are contiguous. Neighbours
-// come from per-particle Verlet rows (R + skin) that are rebuilt only after something moved
-// half a skin; pairs are split into those with an awake particle (all the solver's iterations
+// come from per-particle Verlet rows (R + skin) that are rebuilt only after two particles
+// moved a skin together; pairs are split into those with an awake particle (all the solver's iterations
 // need) and the rest (only for densities). Nothing here loops over all particles or all bonds.
 
 void Nucleus::step(double dt, std::span<const Collider> moving,
@@ -463,9 +494,12 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
     r.rot_drag_Nms = 0.0;
   }
   if (x_.empty()) return;
-  for (std::size_t m = 0; m < moving.size(); ++m)
+  for (std::size_t m = 0; m < moving.size(); ++m) {
     end_pose_[m] = advance(moving[m].pose, moving[m].linear_velocity_m_s,
                            moving[m].angular_velocity_rad_s, dt);
+    const Quat& q = end_pose_[m].orientation;
+    end_identity_[m] = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
+  }
   // The last step's particles leave the local numbering (and their body forces reset: only
   // they were written).
   for (std::size_t k = 0; k < nl_; ++k) {
@@ -482,6 +516,7 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
     report.ok = false;
     report.stage = "neighbors";
   }
+  collider_frames(moving);
   setup_walls(dt, moving);
   assemble(dt);
   solve(report);
@@ -511,21 +546,30 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   break_bonds();
 }
 
-// The grid of the Verlet rows is rebuilt once a particle has moved skin / 2 since the last
-// build (then no pair closer than R can be missing from the rows: each end moved less than
-// skin / 2). Only awake and fixed particles move, so only they are checked.
+// The grid of the Verlet rows is rebuilt once two particles together have moved a skin since
+// the last build: a pair closer than R now was closer than R + |dx_i| + |dx_j| then, so no
+// such pair can be missing from the rows while the two largest displacements sum to less than
+// the skin (the usual test, every particle within skin / 2, is the special case of equal
+// ones; this one tolerates a few fast particles among slow ones). Only awake and fixed
+// particles move; those that fell asleep keep the displacement they had (frozen_disp2_).
 void Nucleus::update_grid() {
-  bool rebuild = !grid_valid_;
-  const double half_skin2 = 0.25 * skin_ * skin_;
-  for (std::size_t k = 0; k < active_count_ && !rebuild; ++k) {
-    const std::int32_t i = active_[k];
-    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
-  }
-  for (std::size_t k = 0; k < fixed_list_.size() && !rebuild; ++k) {
-    const std::int32_t i = fixed_list_[k];
-    rebuild = !(min_image(x_[i] - x_built_[i]).squaredNorm() < half_skin2);
-  }
+  double m1 = frozen_disp2_[0], m2 = frozen_disp2_[1];  // two largest squared displacements
+  auto note = [&](std::int32_t i) {
+    const double d2 = min_image(x_[i] - x_built_[i]).squaredNorm();
+    if (!(d2 <= m2)) {  // NaN counts as largest
+      if (!(d2 <= m1)) {
+        m2 = m1;
+        m1 = d2;
+      } else {
+        m2 = d2;
+      }
+    }
+  };
+  for (std::size_t k = 0; k < active_count_; ++k) note(active_[k]);
+  for (const std::int32_t i : fixed_list_) note(i);
+  const bool rebuild = !grid_valid_ || !(std::sqrt(m1) + std::sqrt(m2) < skin_);
   if (!rebuild) return;
+  frozen_disp2_ = {0.0, 0.0};
   grid_.build(x_, radius_ + skin_, options_.periodic, options_.periodic_min_m,
               options_.periodic_max_m);
   std::copy(x_.begin(), x_.end(), x_built_.begin());
@@ -559,13 +603,23 @@ void Nucleus::ensure_row(std::int32_t i) {
   const std::size_t start = row_used_;
   const std::size_t cap = row_j_.size();
   const Vec3 xi = x_built_[i];
+  // Each entry's ordering bucket (see below): higher index first, then lower; within each,
+  // inside the density radius, inside R, then beyond (at the build positions).
+  const double Rd2 = density_radius_ * density_radius_, R2 = radius_ * radius_;
+  const std::size_t scratch = row_scratch_j_.size();
+  std::array<std::int32_t, 7> count{};
   grid_.for_each_near(xi, [&](std::int32_t j, const Vec3& xj) {
     if (j == i) return;
-    if (!(min_image(xj - xi).squaredNorm() < reach2)) return;
+    const double r2 = min_image(xj - xi).squaredNorm();
+    if (!(r2 < reach2)) return;
     if (row_used_ >= cap) {
       pairs_overflow_ = true;
       return;
     }
+    const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
+    const std::size_t c = row_used_ - start;
+    if (c < scratch) row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
+    ++count[bucket + 1];
     row_j_[row_used_] = j;
     row_bond_[row_used_] = partner_bond_[j];
     ++row_used_;
@@ -574,8 +628,37 @@ void Nucleus::ensure_row(std::int32_t i) {
     const std::int32_t b = bond_adj_[k];
     partner_bond_[bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b]] = -1;
   }
+  const std::size_t len = row_used_ - start;
   row_start_[i] = static_cast<std::int32_t>(start);
-  row_len_[i] = static_cast<std::int32_t>(row_used_ - start);
+  row_len_[i] = static_cast<std::int32_t>(len);
+  // Order by bucket (stable counting sort; see row_upper_). A row longer than the scratch is
+  // only split into its upper and lower parts (the ordering only saves time).
+  std::int32_t upper = 0;
+  if (len <= scratch) {
+    std::copy(row_j_.begin() + start, row_j_.begin() + row_used_, row_scratch_j_.begin());
+    std::copy(row_bond_.begin() + start, row_bond_.begin() + row_used_, row_scratch_b_.begin());
+    for (int b = 0; b < 6; ++b) count[b + 1] += count[b];
+    upper = count[3];
+    for (std::size_t c = 0; c < len; ++c) {
+      const std::size_t at = start + count[row_scratch_bucket_[c]]++;
+      row_j_[at] = row_scratch_j_[c];
+      row_bond_[at] = row_scratch_b_[c];
+    }
+  } else {
+    // Unordered: upper/lower partition only (in place, order within the parts lost).
+    std::size_t lo = start, hi = row_used_;
+    while (lo < hi) {
+      if (row_j_[lo] > i) {
+        ++lo;
+      } else {
+        --hi;
+        std::swap(row_j_[lo], row_j_[hi]);
+        std::swap(row_bond_[lo], row_bond_[hi]);
+      }
+    }
+    upper = static_cast<std::int32_t>(lo - start);
+  }
+  row_upper_[i] = upper;
 }
 
 namespace {
@@ -654,8 +737,9 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
     };
     Vec3 lo, hi;
     if (collider_bounds(c, &lo, &hi)) {
-      // The grid holds positions up to skin / 2 old: the query box is widened by that.
-      const Vec3 pad = Vec3::Constant(sleep_d + 0.5 * skin_);
+      // The grid holds old positions: the query box is widened by how far they can be off
+      // (Up to a skin old: see update_grid.)
+      const Vec3 pad = Vec3::Constant(sleep_d + skin_);
       grid_.for_each_in_box(lo - pad, hi + pad, [&](std::int32_t j, const Vec3&) { test(j); });
     } else {
       for (std::size_t j = 0; j < n; ++j) test(static_cast<std::int32_t>(j));
@@ -677,11 +761,24 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
     if (calm_[i] >= kCalmStepsToSleep) {
       awake_[i] = 0;
       v_[i] = Vec3::Zero();
+      // Its displacement since the grid build stays in the rebuild test (update_grid).
+      const double d2 = min_image(x_[i] - x_built_[i]).squaredNorm();
+      if (d2 > frozen_disp2_[1]) {
+        frozen_disp2_[1] = d2;
+        if (frozen_disp2_[1] > frozen_disp2_[0]) std::swap(frozen_disp2_[0], frozen_disp2_[1]);
+      }
     } else {
       active_[survivors++] = i;
     }
   }
-  for (std::size_t k = 0; k < woken; ++k) active_[survivors + k] = lg_[k];
+  // The awake list stays sorted by particle index (build_pairs relies on it): the woken ones,
+  // sorted, are merged in from the back.
+  std::sort(lg_.begin(), lg_.begin() + static_cast<std::ptrdiff_t>(woken));
+  std::size_t a = survivors, b = woken, out = survivors + woken;
+  while (b > 0) {
+    if (a > 0 && active_[a - 1] > lg_[b - 1]) active_[--out] = active_[--a];
+    else active_[--out] = lg_[--b];
+  }
   active_count_ = survivors + woken;
 }
 
@@ -713,7 +810,7 @@ void Nucleus::build_pairs() {
     pair_i_[p] = li;
     pair_j_[p] = lj;
     pair_r_[p] = r;
-    pair_n_[p] = d / r;
+    pair_n_[p] = d * (1.0 / r);
     if (bond >= 0 && !bond_alive_[bond]) bond = -1;
     pair_bond_[p] = bond;
     if (bond >= 0 && loose_possible_) bond_in_pair_[bond] = 1;
@@ -745,7 +842,37 @@ void Nucleus::build_pairs() {
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     }
   };
-  for (std::size_t k = 0; k < na_; ++k) pair_row(k, nh_);
+  // Awake rows. The awake list is sorted by particle index, so an awake neighbour numbered
+  // below k is exactly an awake neighbour of lower index: the row's upper part (higher
+  // indices) is paired whole, its lower part only with particles that are not awake. Rows are
+  // ordered by distance within each part, so the range and near/far tests branch alike from
+  // row to row.
+  for (std::size_t k = 0; k < na_; ++k) {
+    const std::int32_t i = lg_[k];
+    ensure_row(i);
+    row_near_[k] = static_cast<std::int32_t>(near_);
+    row_far_[k] = static_cast<std::int32_t>(far_);
+    const std::int32_t* rj = row_j_.data() + row_start_[i];
+    const std::int32_t* rb = row_bond_.data() + row_start_[i];
+    const std::int32_t upper = row_upper_[i];
+    const Vec3 xi = x_[i];
+    auto visit = [&](std::int32_t c) {
+      const std::int32_t j = rj[c];
+      const Vec3 d = min_image(x_[j] - xi);
+      const double r2 = d.squaredNorm();
+      if (r2 >= R2 || r2 <= 0.0) return;
+      std::int32_t lj = local_[j];
+      if (lj < 0) {
+        lj = static_cast<std::int32_t>(nh_++);
+        local_[j] = lj;
+        lg_[lj] = j;
+      }
+      emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
+    };
+    for (std::int32_t c = 0; c < upper; ++c) visit(c);
+    for (std::int32_t c = upper; c < row_len_[i]; ++c)
+      if (!awake_[rj[c]]) visit(c);
+  }
   near_awake_ = near_;
   far_awake_ = far_;
   nl_ = nh_;
@@ -859,7 +986,9 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
           continue;
       }
       Vec3 normal;
-      const double d = signed_distance(c, xi, &normal);
+      const bool unrotated = frame_identity_[kc] != 0;
+      const double d = signed_distance_local(c, to_local(c.pose, unrotated, xi), &normal);
+      if (!unrotated) normal = c.pose.orientation * normal;
       const Vec3 vw = kc < n_static ? Vec3::Zero() : c.velocity_at(xi);
       const double vn_rel = (vi - vw).dot(normal);
       const double reach = contact_ + 0.1 * h_ + std::max(0.0, -vn_rel) * dt;
@@ -877,6 +1006,7 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       w.normal = normal;
       w.v_wall = vw;
       w.point = xi - d * normal;
+      w.distance = d;
       // The solid fills the lattice sites a particle is missing near it: their density, its
       // gradient, and their second moment are counted as neighbours (the role of boundary
       // particles in Akinci et al. 2012), site by site from the signed distance, so edges,
@@ -903,7 +1033,8 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         // The sums depend on where the particle is relative to the solid only (cached).
         const SiteSums sums = solver_.wall_sum_cache
                                   ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
-                                  : site_sums(c, xi, d);
+                                  : site_sums(c, static_cast<std::int32_t>(kc), xi,
+                                              to_local(c.pose, unrotated, xi), d);
         density_[k] += sums.n;
         second_moment_[k] += sums.s2;
         w.grad = sums.grad;
@@ -974,26 +1105,60 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   }
 }
 
-// Wall sums of collider c's lattice sites around a particle at x, d from its surface: each
-// site within R counts with its occupancy (see setup_walls).
-Nucleus::SiteSums Nucleus::site_sums(const Collider& c, const Vec3& x, double d) const {
+// Wall sums of collider `kc`'s lattice sites around a particle at x (local: x in the
+// collider's frame), d from its surface: each site within R counts with its occupancy (see
+// setup_walls). The sites are placed in the collider's frame with the offsets rotated once per
+// step (collider_frames), and a box's sites farther than h/2 outside its faces along any local
+// axis are rejected before the distance (their occupancy is 0): a particle beside the moving
+// blade recomputes these sums nearly every step, and most of its sites are outside the blade.
+Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const Vec3& x,
+                                     const Vec3& local, double d) const {
   SiteSums sums;
-  const double d_eff = std::max(d, 0.25 * h_);
+  const double inv_d_eff = 1.0 / std::max(d, 0.25 * h_);
+  const double inv_n0 = 1.0 / n0_;
+  const double half = 0.5 * h_;
+  const bool identity = frame_identity_[kc] != 0;
+  const Vec3* offsets = identity ? site_offset_.data() : &site_local_[kc * site_offset_.size()];
+  const bool box = c.kind == ColliderKind::kBox;
+  const Vec3 reject = c.half_extents_m + Vec3::Constant(half);
+  Vec3 grad_local = Vec3::Zero();
   for (std::size_t o = 0; o < site_offset_.size(); ++o) {
     // sd(site) >= d - |offset|: a site that far cannot be occupied.
-    if (d - site_len_[o] >= 0.5 * h_) continue;
+    if (d - site_len_[o] >= half) continue;
+    // An unrotated collider: the site's local point exactly as signed_distance() forms it.
+    const Vec3 p = identity ? Vec3((x + site_offset_[o]) - c.pose.position)
+                            : Vec3(local + offsets[o]);
+    if (box && (p.x() >= reject.x() || -p.x() >= reject.x() || p.y() >= reject.y() ||
+                -p.y() >= reject.y() || p.z() >= reject.z() || -p.z() >= reject.z()))
+      continue;  // sd >= |p_a| - b_a >= h/2 on that axis
     Vec3 nq;
-    const double sd = signed_distance(c, x + site_offset_[o], &nq);
+    const double sd = signed_distance_local(c, p, &nq);
     double slope = 0.0;
     const double occ = occupancy(sd, h_, &slope);
     if (occ <= 0.0) continue;
     sums.n += occ * site_w_[o];
     sums.s2 += occ * site_wv_[o] * site_r2_[o];
-    sums.grad += (slope * site_w_[o] / n0_) * nq;
-    const Vec3 u = site_offset_[o] / site_len_[o];
-    sums.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff)) * (u * u.transpose());
+    grad_local += (slope * site_w_[o] * inv_n0) * nq;
+    sums.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) * inv_d_eff)) * site_uu_[o];
   }
+  sums.grad = identity ? grad_local : Vec3(c.pose.orientation * grad_local);
   return sums;
+}
+
+// Per collider of this step (statics, then moving): whether its orientation is the identity,
+// and otherwise the lattice site offsets in its frame.
+void Nucleus::collider_frames(std::span<const Collider> moving) {
+  const std::size_t n_static = statics_.size();
+  const std::size_t sites = site_offset_.size();
+  for (std::size_t kc = 0; kc < n_static + moving.size(); ++kc) {
+    const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
+    const Quat& q = c.pose.orientation;
+    const bool identity = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
+    frame_identity_[kc] = identity ? 1 : 0;
+    if (identity) continue;
+    const Eigen::Matrix3d to_local = q.conjugate().toRotationMatrix();
+    for (std::size_t o = 0; o < sites; ++o) site_local_[kc * sites + o] = to_local * site_offset_[o];
+  }
 }
 
 // site_sums of collider `kc` (index over statics then moving) for particle i at x, from the
@@ -1004,8 +1169,7 @@ Nucleus::SiteSums Nucleus::site_sums(const Collider& c, const Vec3& x, double d)
 Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
                                             const Vec3& x, double d) {
   const double tol = solver_.wall_sum_cache_tolerance * h_;
-  const double turn = solver_.wall_sum_cache_tolerance * h_ / radius_;  // rad
-  const Vec3 local = c.pose.inverse_apply(x);
+  const Vec3 local = to_local(c.pose, frame_identity_[kc] != 0, x);
   SiteSums* entries = &site_cache_[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];
   SiteSums* slot = nullptr;
   for (int e = 0; e < kMaxWallHitsPerParticle; ++e) {
@@ -1013,13 +1177,13 @@ Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, 
   }
   if (slot) {
     const bool placed = (local - slot->local).squaredNorm() < tol * tol;
-    const bool turned = !(std::abs(c.pose.orientation.dot(slot->orientation)) > std::cos(0.5 * turn));
+    const bool turned = !(std::abs(c.pose.orientation.dot(slot->orientation)) > cache_turn_cos_);
     if (placed && !turned) return *slot;
   } else {
     slot = &entries[site_cache_next_[i]];  // round robin over the particle's entries
     site_cache_next_[i] = static_cast<std::uint8_t>((site_cache_next_[i] + 1) % kMaxWallHitsPerParticle);
   }
-  *slot = site_sums(c, x, d);
+  *slot = site_sums(c, kc, x, local, d);
   slot->collider = kc;
   slot->local = local;
   slot->orientation = c.pose.orientation;
@@ -1143,27 +1307,44 @@ void Nucleus::assemble(double dt) {
     density_[k] = 0.0;  // outer particles: partial sums, never read
     second_moment_[k] = 0.0;
   }
-  // Neighbour sums: density (kernel units) and second moment.
-  for (std::size_t k = 0; k < nh_; ++k) density_[k] += 1.0;  // self
-  for (std::size_t p = 0; p < near_; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const double r = pair_r_[p];
-    const double w = kernel(r, Rd);
-    density_[i] += w;
-    density_[j] += w;
-    pair_g_[p] = kernel_slope(r, Rd) / n0_;
-    const double wv = viscous_weight(r, R);
-    second_moment_[i] += wv * r * r;
-    second_moment_[j] += wv * r * r;
-    pair_a_[p] = wv;
-  }
-  for (std::size_t p = far_begin; p < cap; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const double r = pair_r_[p];
-    const double wv = viscous_weight(r, R);
-    second_moment_[i] += wv * r * r;
-    second_moment_[j] += wv * r * r;
-    pair_a_[p] = wv;
+  // Neighbour sums: density (kernel units) and second moment. The kernels of `kernel` and
+  // `viscous_weight` inlined with the reciprocal radii (every near pair is inside both radii).
+  const double inv_R = 1.0 / R, inv_Rd = 1.0 / Rd;
+  const double slope_scale = -3.0 * inv_Rd / n0_;  // kernel_slope / n0 = slope_scale q^2
+  // Row by row (every pair of row k has k as its first end), the first end's sums in
+  // registers.
+  const std::int32_t* pj = pair_j_.data();
+  const double* pr = pair_r_.data();
+  for (std::size_t k = 0; k < nh_; ++k) {
+    double dk = 1.0;  // self
+    double mk = 0.0;
+    for (std::int32_t p = row_near_[k]; p < row_near_[k + 1]; ++p) {
+      const std::int32_t j = pj[p];
+      const double r = pr[p];
+      const double qd = std::max(0.0, 1.0 - r * inv_Rd);
+      const double w = qd * qd * qd;
+      const double qv = std::max(0.0, 1.0 - r * inv_R);
+      const double wv = qv * std::sqrt(qv);
+      const double m2 = wv * r * r;
+      dk += w;
+      density_[j] += w;
+      pair_g_[p] = slope_scale * qd * qd;
+      mk += m2;
+      second_moment_[j] += m2;
+      pair_a_[p] = wv;
+    }
+    for (std::size_t p = cap - row_far_[k + 1]; p < cap - row_far_[k]; ++p) {
+      const std::int32_t j = pj[p];
+      const double r = pr[p];
+      const double qv = std::max(0.0, 1.0 - r * inv_R);
+      const double wv = qv * std::sqrt(qv);
+      const double m2 = wv * r * r;
+      mk += m2;
+      second_moment_[j] += m2;
+      pair_a_[p] = wv;
+    }
+    density_[k] += dk;
+    second_moment_[k] += mk;
   }
 
   // Per particle. Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth
@@ -1238,57 +1419,87 @@ void Nucleus::assemble(double dt) {
   // iterations stream it, so its size sets their speed; rounding perturbs the operator by
   // ~1e-7 relative (far below the solve tolerance) and symmetrically (both ends of a pair read
   // the same record), so it stays symmetric positive definite.
-  for (std::size_t p = 0; p < near_awake_; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const Vec3& nn = pair_n_[p];
-    double a = pair_a_[p] * dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
-    const double g = pair_g_[p];
-    Vec3 f = (dt * (kappa_[lg_[i]] * volume_ * std::max(constraint_[i], 0.0) +
-                    kappa_[lg_[j]] * volume_ * std::max(constraint_[j], 0.0)) * g -
-              (s_[i] + s_[j]) * g) * nn;
-    const std::int32_t b = pair_bond_[p];
-    if (b >= 0) {
-      a += dt * dt * bond_k_[b];
-      f += dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * nn;
-    }
-    pair_a_[p] = a;
-    rhs_[i] += f;
-    rhs_[j] -= f;
-    add_outer(diag_inv_[i], a + press_coef_[j] * g * g, nn);
-    add_outer(diag_inv_[j], a + press_coef_[i] * g * g, nn);
-    q_[i] -= g * nn;
-    q_[j] += g * nn;
-    kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                  static_cast<float>(nn.z()), static_cast<float>(a), static_cast<float>(g)};
+  // Per particle of the step: the pressure force factor dt kappa V max(C, 0) and half the
+  // viscous coefficient times dt (zero beyond the halo).
+  double* pf = s_pf_.data();
+  double* hv = s_hv_.data();
+  for (std::size_t k = 0; k < nl_; ++k) {
+    pf[k] = dt * kappa_[lg_[k]] * volume_ * std::max(constraint_[k], 0.0);
+    hv[k] = 0.5 * dt * visc_coef_[k];
   }
-  for (std::size_t p = far_awake_begin; p < cap; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const Vec3& nn = pair_n_[p];
-    double a = pair_a_[p] * dt * 0.5 * (visc_coef_[i] + visc_coef_[j]);
-    const std::int32_t b = pair_bond_[p];
-    if (b >= 0) {
-      a += dt * dt * bond_k_[b];
-      const Vec3 f = dt * bond_k_[b] * (pair_r_[p] - bond_rest_[b]) * nn;
-      rhs_[i] += f;
+  const double* pc = press_coef_.data();
+  const double dt2 = dt * dt;
+  // Row by row over the awake particles (their rows hold exactly the pairs with an awake
+  // particle), the first end's sums in registers.
+  for (std::size_t k = 0; k < nh_; ++k) pf[k] -= s_[k];  // pressure force less wall motion
+  for (std::size_t i = 0; i < na_; ++i) {
+    const double hv_i = hv[i], pf_i = pf[i], pc_i = pc[i];
+    Vec3 rhs_i = Vec3::Zero();
+    Vec3 q_i = Vec3::Zero();
+    double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0, d4 = 0.0, d5 = 0.0;
+    for (std::int32_t p = row_near_[i]; p < row_near_[i + 1]; ++p) {
+      const std::int32_t j = pj[p];
+      const Vec3& nn = pair_n_[p];
+      double a = pair_a_[p] * (hv_i + hv[j]);
+      const double g = pair_g_[p];
+      double fs = (pf_i + pf[j]) * g;
+      const std::int32_t b = pair_bond_[p];
+      if (b >= 0) {
+        const double k = bond_k_[b];
+        a += dt2 * k;
+        fs += dt * k * (pr[p] - bond_rest_[b]);
+      }
+      const Vec3 f = fs * nn;
+      rhs_i += f;
       rhs_[j] -= f;
+      const double g2 = g * g;
+      const double ai = a + pc[j] * g2, aj = a + pc_i * g2;
+      const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
+      const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
+      d0 += ai * xx; d1 += ai * yy; d2 += ai * zz; d3 += ai * xy; d4 += ai * xz; d5 += ai * yz;
+      Sym3& dj = diag_inv_[j];
+      dj[0] += aj * xx; dj[1] += aj * yy; dj[2] += aj * zz;
+      dj[3] += aj * xy; dj[4] += aj * xz; dj[5] += aj * yz;
+      q_i -= g * nn;
+      q_[j] += g * nn;
+      kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                    static_cast<float>(nn.z()), static_cast<float>(a), static_cast<float>(g)};
     }
-    pair_a_[p] = a;
-    add_outer(diag_inv_[i], a, nn);
-    add_outer(diag_inv_[j], a, nn);
-    kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                  static_cast<float>(nn.z()), static_cast<float>(a), 0.0f};
+    for (std::size_t p = cap - row_far_[i + 1]; p < cap - row_far_[i]; ++p) {
+      const std::int32_t j = pj[p];
+      const Vec3& nn = pair_n_[p];
+      double a = pair_a_[p] * (hv_i + hv[j]);
+      const std::int32_t b = pair_bond_[p];
+      if (b >= 0) {
+        const double k = bond_k_[b];
+        a += dt2 * k;
+        const Vec3 f = (dt * k * (pr[p] - bond_rest_[b])) * nn;
+        rhs_i += f;
+        rhs_[j] -= f;
+      }
+      const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
+      const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
+      d0 += a * xx; d1 += a * yy; d2 += a * zz; d3 += a * xy; d4 += a * xz; d5 += a * yz;
+      Sym3& dj = diag_inv_[j];
+      dj[0] += a * xx; dj[1] += a * yy; dj[2] += a * zz;
+      dj[3] += a * xy; dj[4] += a * xz; dj[5] += a * yz;
+      kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                    static_cast<float>(nn.z()), static_cast<float>(a), 0.0f};
+    }
+    rhs_[i] += rhs_i;
+    q_[i] += q_i;
+    Sym3& di = diag_inv_[i];
+    di[0] += d0; di[1] += d1; di[2] += d2; di[3] += d3; di[4] += d4; di[5] += d5;
   }
   // Pairs without an awake particle never act on an awake row (coefficient 0); their density
-  // gradient still matters when a frozen particle moves (a full apply).
-  for (std::size_t p = near_awake_; p < near_; ++p) {
-    pair_a_[p] = 0.0;
-    kernel_[p] = {pair_j_[p], static_cast<float>(pair_n_[p].x()),
-                  static_cast<float>(pair_n_[p].y()), static_cast<float>(pair_n_[p].z()), 0.0f,
-                  static_cast<float>(pair_g_[p])};
-  }
-  for (std::size_t p = far_begin; p < far_awake_begin; ++p) {
-    pair_a_[p] = 0.0;
-    kernel_[p] = {pair_j_[p], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  // gradient still matters when a frozen particle moves (a full apply, the only reader).
+  if (frozen_moving_) {
+    for (std::size_t p = near_awake_; p < near_; ++p)
+      kernel_[p] = {pair_j_[p], static_cast<float>(pair_n_[p].x()),
+                    static_cast<float>(pair_n_[p].y()), static_cast<float>(pair_n_[p].z()), 0.0f,
+                    static_cast<float>(pair_g_[p])};
+    for (std::size_t p = far_begin; p < far_awake_begin; ++p)
+      kernel_[p] = {pair_j_[p], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
   }
   // Loose bonds cache their direction and implicit coefficient dt^2 k for the solver.
   for (std::size_t k = 0; k < loose_bonds_; ++k) {
@@ -1340,27 +1551,26 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     y[i] -= f;
     y[j] += f;
   }
-  // Viscosity and pair bonds (a n n^T on the relative velocity), and on near pairs the
-  // divergence pass of the pressure.
+  // Far pairs: viscosity and pair bonds (a n n^T on the relative velocity). Near pairs, first
+  // pass: the divergence of the pressure (s), keeping each pair's relative normal velocity dn.
   const PairKernel* kr = kernel_.data();
   const std::int32_t* rn = row_near_.data();
   const std::int32_t* rf = row_far_.data();
+  double* dnp = pair_dn_.data();
   for (std::size_t i = 0; i < rows; ++i) {
     const Vec3 xi = x[i];
-    Vec3 yi = Vec3::Zero();
     double si = 0.0;
     for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
       const PairKernel& e = kr[p];
-      const Vec3 nn(e.nx, e.ny, e.nz);
-      const double dn = nn.dot(x[e.j] - xi);
-      const Vec3 f = (e.a * dn) * nn;
-      yi -= f;
-      y[e.j] += f;
+      const double dn = Vec3(e.nx, e.ny, e.nz).dot(x[e.j] - xi);
+      dnp[p] = dn;
       const double div = e.g * dn;
       si += div;
       s[e.j] += div;
     }
+    s[i] += si;
     // Far pairs of row i sit at [cap - rf[i+1], cap - rf[i]).
+    Vec3 yi = Vec3::Zero();
     for (std::size_t p = cap - rf[i + 1]; p < cap - rf[i]; ++p) {
       const PairKernel& e = kr[p];
       const Vec3 nn(e.nx, e.ny, e.nz);
@@ -1369,9 +1579,9 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
       y[e.j] += f;
     }
     y[i] += yi;
-    s[i] += si;
   }
-  // Gradient pass: y += sum_k coef_k (grad C_k . x) grad C_k.
+  // Near pairs, second pass: the viscous and bond force a dn n together with the gradient
+  // pass of the pressure, y += sum_k coef_k (grad C_k . x) grad C_k, in one scattered update.
   const double* pc = press_coef_.data();
   for (std::size_t k = 0; k < span; ++k) s[k] *= pc[k];
   for (std::size_t w = 0; w < wall_particles_; ++w) {
@@ -1383,9 +1593,9 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     Vec3 yi = Vec3::Zero();
     for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
       const PairKernel& e = kr[p];
-      const Vec3 g = ((si + s[e.j]) * e.g) * Vec3(e.nx, e.ny, e.nz);
-      yi -= g;
-      y[e.j] += g;
+      const Vec3 f = (e.a * dnp[p] + (si + s[e.j]) * e.g) * Vec3(e.nx, e.ny, e.nz);
+      yi -= f;
+      y[e.j] += f;
     }
     y[i] += yi;
   }
@@ -1422,6 +1632,9 @@ void Nucleus::solve(NumericalReport& report) {
   }
   for (const std::int32_t i : fixed_list_) v_[i] = fixed_v_[i];
   apply(v, q, frozen_moving_);
+  // A v on the constrained rows, kept along with v (A v0 + sum alpha A p): the contact forces
+  // are its constrained part (reactions_and_pressure), which the filtered residual drops.
+  for (std::size_t c = 0; c < con_particles_; ++c) con_av_[c] = q[con_particle_[c]];
   double b_norm2 = 0.0, g_norm2 = 0.0;
   const double g2 = gravity_.squaredNorm();
   for (std::size_t k = 0; k < na; ++k) {
@@ -1451,11 +1664,13 @@ void Nucleus::solve(NumericalReport& report) {
   const int max_it = std::max(1, solver_.max_iterations);
   while (r_norm > tol && it < max_it) {
     apply(p, q, false);
+    for (std::size_t c = 0; c < con_particles_; ++c) con_aq_[c] = q[con_particle_[c]];
     filter(q);
     double pq = 0.0;
     for (std::size_t k = 0; k < na; ++k) pq += p[k].dot(q[k]);
     if (!(pq > 0.0)) break;  // converged to round-off (or a non-finite value, caught later)
     const double alpha = rz / pq;
+    for (std::size_t c = 0; c < con_particles_; ++c) con_av_[c] += alpha * con_aq_[c];
     double rz_new = 0.0;
     double rn = 0.0;
     // r stays filtered (q is), so r . z equals r . (filtered z): the dot product is taken
@@ -1515,10 +1730,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
                        ? std::max(0.0, kappa_[i] * (constraint_[k] + dt * s_[k]))
                        : 0.0;
   }
-  // Contact forces: the constrained part of A v - b, divided by dt (q_ = A v).
-  bool any_contact = false;
-  for (std::size_t w = 0; w < wall_count_ && !any_contact; ++w) any_contact = walls_[w].contact;
-  if (any_contact) apply(v, q_.data(), frozen_moving_);
+  // Contact forces: the constrained part of A v - b, divided by dt (A v kept by solve()).
 
   std::size_t w0 = 0;
   while (w0 < wall_count_) {
@@ -1531,7 +1743,7 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     double share[kMaxWallHitsPerParticle] = {0, 0, 0, 0};
     const std::int32_t cs = k < static_cast<std::int32_t>(na_) ? con_slot_[k] : -1;
     if (cs >= 0) {
-      Vec3 lambda = (q_[k] - rhs_[k]) / dt;
+      Vec3 lambda = (con_av_[cs] - rhs_[k]) / dt;
       Vec3 constrained = Vec3::Zero();
       for (int a = 0; a < con_count_[cs]; ++a)
         constrained += con_e_[cs][a] * con_e_[cs][a].dot(lambda);
@@ -1596,10 +1808,23 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double tiny = 1e-4 * h_;
   const double wall_range = radius_ + 0.5 * h_;
   const double free_path = wall_range - contact_ - 0.01 * h_;
+  // Speeds of the moving colliders' frames (for the path bound of culled colliders).
+  std::array<double, kMaxMoving> lin_speed, ang_speed;
+  for (std::size_t m = 0; m < moving.size(); ++m) {
+    lin_speed[m] = moving[m].linear_velocity_m_s.norm();
+    ang_speed[m] = moving[m].angular_velocity_rad_s.norm();
+  }
+  std::size_t hit_cursor = 0;  // walls_ holds each particle's hits consecutively, by local index
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = lg_[k];
     const std::uint32_t near_mask = near_colliders_[k];
     const bool check_all = all_colliders_[k] != 0;
+    while (hit_cursor < wall_count_ && walls_[hit_cursor].particle < static_cast<std::int32_t>(k))
+      ++hit_cursor;
+    std::size_t hit_end = hit_cursor;
+    while (hit_end < wall_count_ && walls_[hit_end].particle == static_cast<std::int32_t>(k))
+      ++hit_end;
+    double moved = (x_[i] - x_start_[i]).norm();  // kept current as projections move x
     // Statics, then the moving bodies, then the statics again: a particle squeezed between
     // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
     // overlap with the instrument is pushed out over the next steps).
@@ -1611,22 +1836,36 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       if (!check_all && !(near_mask & (1u << c_idx))) {
         // Path length in the collider's frame: the particle's displacement plus how far the
         // collider's material near it moved (|v| dt + |w| dt * distance).
-        double path = (x_[i] - x_start_[i]).norm();
+        double path = moved;
         if (!is_static)
-          path += (c.linear_velocity_m_s.norm() +
-                   c.angular_velocity_rad_s.norm() * (x_start_[i] - c.pose.position).norm()) *
+          path += (lin_speed[c_idx - n_static] +
+                   ang_speed[c_idx - n_static] * (x_start_[i] - c.pose.position).norm()) *
                   dt * 1.01;
         if (path < free_path) continue;
       }
       const Pose& start = c.pose;
       const Pose& end = is_static ? c.pose : end_pose_[c_idx - n_static];
-      const Vec3 p0 = start.inverse_apply(x_start_[i]);
-      Vec3 p1 = end.inverse_apply(x_[i]);
+      const bool start_unrotated = frame_identity_[c_idx] != 0;
+      const bool end_unrotated = is_static ? start_unrotated : end_identity_[c_idx - n_static] != 0;
+      const Vec3 p0 = to_local(start, start_unrotated, x_start_[i]);
+      Vec3 p1 = to_local(end, end_unrotated, x_[i]);
+      const double len = (p1 - p0).norm();
+      // The start distance is the one setup_walls found for this particle's hit on c (the same
+      // evaluation). For an exact distance (1-Lipschitz: not the sampled bone) a path shorter
+      // than d0 - contact - 2 tiny can neither end inside nor cross the inflated surface, the
+      // test below would pass: skip both distances.
+      const std::int32_t hit_id = is_static ? -1 - static_cast<std::int32_t>(c_idx)
+                                            : static_cast<std::int32_t>(c_idx - n_static);
+      std::size_t h = hit_cursor;
+      while (h < hit_end && walls_[h].collider != hit_id) ++h;
+      const bool known = h < hit_end;
+      if (known && c.kind != ColliderKind::kSdfGrid &&
+          len <= walls_[h].distance - contact_ - 2.0 * tiny)
+        continue;
       Vec3 n1;
       const double d1 = signed_distance_local(c, p1, &n1);
       Vec3 n0;
-      const double d0 = signed_distance_local(c, p0, &n0);
-      const double len = (p1 - p0).norm();
+      const double d0 = known ? walls_[h].distance : signed_distance_local(c, p0, &n0);
       // The path cannot reach the inflated surface (triangle inequality on distances).
       if (d1 >= contact_ - tiny && len <= d0 + d1 - 2.0 * contact_) continue;
       Vec3 normal;   // local normal of the face the particle is held on
@@ -1635,6 +1874,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       if (d0 < contact_) {
         // Started in contact: the exit side is the start side.
         if (d1 >= contact_ - tiny) continue;
+        if (known) signed_distance_local(c, p0, &n0);  // the start normal, in the local frame
         normal = n0;
         surface = p0 - d0 * n0;
         hit = true;
@@ -1670,6 +1910,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
         else q = surface + contact_ * normal;
       }
       x_[i] = end.apply(q);
+      moved = (x_[i] - x_start_[i]).norm();
       // Remove the approaching normal velocity relative to the surface; its impulse is a
       // force on the collider's body.
       const Vec3 nw = end.orientation * normal;
@@ -1705,28 +1946,33 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
 // Bonds break when their force exceeds k * delta_max, i.e. |stretch| > delta_max
 // (seed Eq. 9-10). Only bonds of awake or fixed particles can have changed length.
 void Nucleus::break_bonds() {
-  auto moves = [&](std::int32_t i) { return awake_[i] || fixed_[i]; };
-  auto visit = [&](std::int32_t u) {
-    for (std::int32_t a = bond_adj_start_[u]; a < bond_adj_start_[u + 1]; ++a) {
-      const std::int32_t b = bond_adj_[a];
-      if (!bond_alive_[b] || bond_break_[b] <= 0.0) continue;
-      const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
-      const std::int32_t other = i == u ? j : i;
-      if (moves(other) && other < u) continue;  // visited from the other end
-      const double stretch = min_image(x_[j] - x_[i]).norm() - bond_rest_[b];
-      if (std::abs(stretch) > bond_break_[b]) {
-        bond_alive_[b] = 0;
-        ++broken_;
-        for (const std::int32_t e : {i, j}) {
-          if (fixed_[e] || wake_next_[e]) continue;
-          wake_next_[e] = 1;
-          wake_list_[wake_count_++] = e;
-        }
+  auto test = [&](std::int32_t b) {
+    if (!bond_alive_[b] || bond_break_[b] <= 0.0) return;
+    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
+    // |r - L| > delta  <=>  r^2 > (L + delta)^2 or r^2 < (L - delta)^2 (the latter only
+    // when L > delta): no square root per bond.
+    const double r2 = min_image(x_[j] - x_[i]).squaredNorm();
+    if (r2 > bond_break_hi2_[b] || r2 < bond_break_lo2_[b]) {
+      bond_alive_[b] = 0;
+      ++broken_;
+      for (const std::int32_t e : {i, j}) {
+        if (fixed_[e] || wake_next_[e]) continue;
+        wake_next_[e] = 1;
+        wake_list_[wake_count_++] = e;
       }
     }
   };
-  for (std::size_t k = 0; k < active_count_; ++k) visit(active_[k]);
-  for (const std::int32_t i : fixed_list_) visit(i);
+  // Every live bond of an awake particle is carried by exactly one of this step's pairs with
+  // an awake particle (it was shorter than R at the start) or is a loose bond.
+  for (std::size_t p = 0; p < near_awake_; ++p)
+    if (pair_bond_[p] >= 0) test(pair_bond_[p]);
+  for (std::size_t p = pair_cap_ - far_awake_; p < pair_cap_; ++p)
+    if (pair_bond_[p] >= 0) test(pair_bond_[p]);
+  for (std::size_t k = 0; k < loose_bonds_; ++k) test(loose_[k]);
+  // Fixed particles move too: all their bonds (one shared with an awake particle is tested
+  // again, with the same result).
+  for (const std::int32_t u : fixed_list_)
+    for (std::int32_t a = bond_adj_start_[u]; a < bond_adj_start_[u + 1]; ++a) test(bond_adj_[a]);
 }
 
 }  // namespace acdr

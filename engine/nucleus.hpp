@@ -49,8 +49,8 @@ struct NucleusOptions {
   Vec3 periodic_max_m = Vec3::Zero();
   /// Upper bound of neighbour pairs per particle (pairs capacity = N * this / 2).
   int max_neighbors = 48;
-  /// Verlet skin in units of h: candidate pairs are kept within R + skin and rebuilt once a
-  /// particle has moved skin / 2.
+  /// Verlet skin in units of h: candidate pairs are kept within R + skin and rebuilt once the
+  /// two largest displacements since the last build sum to a skin.
   double skin_factor = 0.3;
 };
 
@@ -145,7 +145,9 @@ class Nucleus {
     double visc_t = 0.0;  // no-slip tensor, tangential components
   };
   struct SiteSums;
-  SiteSums site_sums(const Collider& c, const Vec3& x, double d) const;
+  SiteSums site_sums(const Collider& c, std::int32_t kc, const Vec3& x, const Vec3& local,
+                     double d) const;
+  void collider_frames(std::span<const Collider> moving);
   SiteSums cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i, const Vec3& x,
                             double d);
   bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
@@ -156,6 +158,7 @@ class Nucleus {
   SolverConfig solver_;
   NucleusOptions options_;
   Vec3 gravity_;
+  bool periodic_ = false;  // any periodic axis (min_image is the identity otherwise)
   std::vector<Collider> statics_;
 
   double h_ = 1e-3;       // spacing, m
@@ -171,6 +174,7 @@ class Nucleus {
   std::vector<double> site_r2_;    // their squared lengths, m^2
   std::vector<double> site_wv_;    // their viscous weights
   std::vector<double> site_len_;   // their lengths, m
+  std::vector<Eigen::Matrix3d> site_uu_;  // u u^T of their unit directions u
   std::array<WallTableEntry, 1024> wall_table_{};  // flat-face wall sums over d
   double wall_table_lo_ = 0.0, wall_table_step_ = 1.0;
 
@@ -204,6 +208,8 @@ class Nucleus {
   std::vector<double> bond_rest_;      // m
   std::vector<double> bond_k_;         // N/m
   std::vector<double> bond_break_;     // m, <= 0 unbreakable
+  std::vector<double> bond_break_hi2_;  // m^2, (L + delta)^2: longer breaks (+inf: never)
+  std::vector<double> bond_break_lo2_;  // m^2, (L - delta)^2: shorter breaks (0: never)
   std::vector<std::uint8_t> bond_alive_;
   std::vector<std::uint8_t> bond_in_pair_;  // 1 while a pair of this step carries it
   std::size_t broken_ = 0;
@@ -219,18 +225,25 @@ class Nucleus {
 
   // ---- Neighbour rows: a Verlet list (Verlet 1967) per particle ----
   // Row i holds every particle within R + skin of i at the last grid build. Rows stay exact
-  // until a particle has moved skin / 2 since that build; then the grid is rebuilt and rows
-  // are recomputed lazily, only for particles that take part in a step.
+  // until two particles have moved a skin together since that build (update_grid); then the
+  // grid is rebuilt and rows are recomputed lazily, only for particles that take part in a step.
   double skin_ = 0.0;
   ParticleGrid grid_;
   std::vector<Vec3> x_built_;              // N, positions at the last grid build
   bool grid_valid_ = false;
+  // Two largest squared displacements since the build of particles that fell asleep, m^2.
+  std::array<double, 2> frozen_disp2_ = {0.0, 0.0};
   std::uint32_t epoch_ = 0;                // grid builds so far
   std::vector<std::uint32_t> row_epoch_;   // N, epoch a row was computed in (0: none)
   std::vector<std::int32_t> row_start_;    // N, offset into row_j_
   std::vector<std::int32_t> row_len_;      // N
   std::vector<std::int32_t> row_j_;        // pool: candidate particle
   std::vector<std::int32_t> row_bond_;     // pool: their bond (any state), -1 if none
+  // N: how many of row i's entries (its first ones) have an index above i; each part of the
+  // row is ordered inside the density radius / inside R / beyond, at the grid build.
+  std::vector<std::int32_t> row_upper_;
+  std::vector<std::int32_t> row_scratch_j_, row_scratch_b_;  // one row, for ordering it
+  std::vector<std::uint8_t> row_scratch_bucket_;
   std::size_t row_used_ = 0;
   std::vector<std::int32_t> partner_bond_; // N, scratch (-1)
   bool pairs_overflow_ = false;
@@ -254,7 +267,7 @@ class Nucleus {
   std::vector<std::int32_t> pair_i_, pair_j_;  // local indices
   std::vector<Vec3> pair_n_;           // unit vector i -> j
   std::vector<double> pair_r_;         // m
-  std::vector<double> pair_a_;         // implicit coefficient dt c_ij (+ dt^2 k of its bond)
+  std::vector<double> pair_a_;         // assemble scratch: the viscous weight w_ij
   std::vector<double> pair_g_;         // dW/dr / n0, 1/m (near pairs)
   std::vector<std::int32_t> pair_bond_;  // the pair's live bond, -1 if none
   // Rows: the pairs of local particle k are near [row_near_[k], row_near_[k+1]) and far
@@ -268,6 +281,7 @@ class Nucleus {
     float g;  // dW/dr / n0 (near pairs), 0 for far ones
   };
   std::vector<PairKernel> kernel_;
+  std::vector<double> pair_dn_;  // apply scratch: n . (x_j - x_i) of the near pairs
   std::size_t pair_cap_ = 0;
   std::size_t near_ = 0, near_awake_ = 0, far_ = 0, far_awake_ = 0;
   std::size_t pairs_ = 0;
@@ -278,6 +292,8 @@ class Nucleus {
   std::vector<double> constraint_;     // nh: C_i = density/n0 - 1
   std::vector<double> press_coef_;     // nl: dt^2 kappa V if pressure active, else 0
   std::vector<double> visc_coef_;      // nl: 2 mu V s0 / (t0 S_i): viscous coefficient, N s/m
+  std::vector<double> s_pf_;           // nl: assemble scratch, dt kappa V max(C, 0)
+  std::vector<double> s_hv_;           // nl: assemble scratch, dt visc_coef / 2
   std::vector<double> mass_l_;         // na: kg
   std::vector<Vec3> rhs_;              // na
   std::vector<std::array<double, 6>> diag_inv_;  // na: inverse diagonal block (xx yy zz xy xz yz)
@@ -296,6 +312,8 @@ class Nucleus {
   std::vector<std::array<Vec3, 3>> con_e_;  // orthonormal constrained directions
   std::vector<Vec3> con_v_;                 // constrained velocity component, m/s
   std::vector<std::int32_t> con_slot_;      // na: index into con_particle_, -1 if none
+  std::vector<Vec3> con_av_;                // (A v) at the constrained particles, N s
+  std::vector<Vec3> con_aq_;                // scratch: (A p) there before the filter
   std::size_t con_particles_ = 0;
   // Collider culling for the contact projection: colliders whose surface was within the wall
   // range of the particle at the start of the step (bit k for collider k, statics first).
@@ -311,6 +329,7 @@ class Nucleus {
     Vec3 normal;            // outward surface normal
     Vec3 v_wall;            // surface velocity, m/s
     Vec3 point;             // surface point, m
+    double distance;        // signed distance at the start of the step, m
     bool contact;           // a velocity constraint in the solve
   };
   std::vector<WallHit> walls_;
@@ -329,8 +348,14 @@ class Nucleus {
   std::vector<SiteSums> site_cache_;         // kMaxWallHitsPerParticle x N
   std::vector<std::uint8_t> site_cache_next_;  // N, entry to replace next
   std::size_t wall_count_ = 0;
+  // Per collider of this step (statics, then moving; see collider_frames): 1 if unrotated,
+  // and the lattice site offsets in its frame (32 x sites).
+  std::array<std::uint8_t, 32> frame_identity_{};
+  std::vector<Vec3> site_local_;
+  double cache_turn_cos_ = 1.0;  // cos of half the wall-sum cache's turn limit
   static constexpr int kMaxMoving = 16;
   std::array<Pose, kMaxMoving> end_pose_;  // moving collider poses at the end of the step
+  std::array<std::uint8_t, kMaxMoving> end_identity_{};  // 1: that end pose is unrotated
 };
 
 }  // namespace acdr
