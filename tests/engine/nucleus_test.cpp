@@ -249,8 +249,11 @@ TEST(Nucleus, StateHashIsDeterministicAndMatchesTheGolden) {
   // sum in another order and differ. Re-recorded for the compact step layout (issue 5: local
   // numbering, row-wise pairs, single-precision solver records); the same run's force trace
   // matches the previous layout within 5e-4 relative RMS. Re-recorded for the wall-sum cache
-  // (SolverConfig::wall_sum_cache), which lags the wall sums by at most 0.005 h.
-  constexpr std::uint64_t kGolden = 0x6a765db282a79dbdull;
+  // (SolverConfig::wall_sum_cache), which lags the wall sums by at most 0.005 h. Re-recorded
+  // for the row-wise assembly and merged apply passes (issue 5: sums in another order); on
+  // the box demonstration from 1 s to 3 s the mean instrument force moved by 0.03 % and the
+  // peak not at all.
+  constexpr std::uint64_t kGolden = 0x394552955ffae725ull;
   EXPECT_EQ(a, kGolden) << "golden hash changed: 0x" << std::hex << a;
 }
 
