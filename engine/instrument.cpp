@@ -1,5 +1,5 @@
 // Instrument geometry: the seed's rectangular prism (a flat blade at the end of a round shaft)
-// or a cup curette (a hemispherical cup at the end of the shaft, opening sideways).
+// or a cup curette (a hemispherical cup at the end of the shaft, opening sideways or angled back).
 #include "engine/instrument.hpp"
 
 #include <numbers>
@@ -27,12 +27,16 @@ InstrumentGeometry::InstrumentGeometry(const InstrumentConfig& config) : config_
     head.pose.position = Vec3(0, 0, -L - 0.5 * config.blade_size_m.z());
     working_point_ = head.pose.position;
   } else {
-    // Hemispherical cup whose rim touches the shaft end, opening toward body +x.
+    // Hemispherical cup hanging below the shaft end, its sphere touching the end. The opening
+    // (the shell's local +z) is turned about body y to make the configured angle with the
+    // shaft's tip direction (-z): a turn of pi - angle takes +z to (sin a, 0, -cos a), so the
+    // default pi/2 opens toward body +x and larger angles lean the opening back toward the grip.
     head.kind = ColliderKind::kCupShell;
     head.radius_m = 0.5 * config.cup_diameter_m + config.cup_wall_m;
     head.thickness_m = config.cup_wall_m;
     head.pose.position = Vec3(0, 0, -L - head.radius_m);
-    head.pose.orientation = Quat(Eigen::AngleAxisd(0.5 * std::numbers::pi, Vec3::UnitY()));
+    head.pose.orientation =
+        Quat(Eigen::AngleAxisd(std::numbers::pi - config.cup_opening_angle_rad, Vec3::UnitY()));
     working_point_ = head.pose.position;
   }
   local_colliders_ = {head, shaft};

@@ -101,6 +101,10 @@ struct InstrumentConfig {
   double cup_diameter_m = 4.0e-3;   ///< cup curette: inner diameter of the cup
   double cup_depth_m = 2.0e-3;      ///< cup curette: depth of the cup
   double cup_wall_m = 0.4e-3;       ///< cup curette: wall thickness
+  /// Cup curette: angle between the shaft's direction toward the tip and the cup's opening,
+  /// rad. pi/2 opens sideways (a straight curette); larger angles turn the opening back toward
+  /// the handle, as on an angled (reverse) curette, so a pull stroke loads the cup's floor.
+  double cup_opening_angle_rad = 0.5 * 3.14159265358979323846;
 
   /// Bending moment at which the shaft yields: M_yield = sigma_y * pi * d^3 / 32.
   double yield_moment_Nm() const;

@@ -471,6 +471,11 @@ void read_instrument(ObjectReader& r, InstrumentConfig& in) {
   if (auto v = r.quantity(length("cup_depth"), Need::kOptional, Range::positive(20 * kMm))) {
     in.cup_depth_m = *v;
   }
+  // 90 deg: a straight curette opening sideways; up to 180 deg: angled back toward the handle.
+  if (auto v = r.number("cup_opening_angle_deg", Need::kOptional, Range::closed(90.0, 180.0),
+                        "deg")) {
+    in.cup_opening_angle_rad = *v * M_PI / 180.0;
+  }
   auto wall = r.quantity(length("cup_wall"), Need::kOptional, Range::positive(5 * kMm));
   if (wall) in.cup_wall_m = *wall;
   if (2.0 * in.cup_wall_m >= in.cup_diameter_m) {

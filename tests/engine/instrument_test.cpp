@@ -1,6 +1,8 @@
 // Instrument geometry and the derived yield moment.
 #include "engine/instrument.hpp"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include <numbers>
@@ -45,6 +47,22 @@ TEST(Instrument, CupOpensSideways) {
   EXPECT_EQ(cup.kind, ColliderKind::kCupShell);
   // The cup's local +z (its opening) points along body +x.
   EXPECT_NEAR((cup.pose.orientation * Vec3::UnitZ() - Vec3::UnitX()).norm(), 0.0, 1e-12);
+}
+
+TEST(Instrument, AngledCupOpensBackTowardTheGrip) {
+  InstrumentConfig c;
+  c.shape = InstrumentShape::kCupCurette;
+  c.cup_opening_angle_rad = 0.75 * M_PI;  // 135 deg from the tip direction (-z)
+  InstrumentGeometry g(c);
+  const Collider& cup = g.local_colliders()[0];
+  const Vec3 opening = cup.pose.orientation * Vec3::UnitZ();
+  // Half sideways (+x), half back toward the grip (+z), and 135 deg from the tip direction.
+  EXPECT_NEAR((opening - Vec3(std::sqrt(0.5), 0.0, std::sqrt(0.5))).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(std::acos(opening.dot(-Vec3::UnitZ())), 0.75 * M_PI, 1e-12);
+  // The cup stays where the straight one is: below the shaft end, touching it.
+  InstrumentConfig straight = c;
+  straight.cup_opening_angle_rad = 0.5 * M_PI;
+  EXPECT_EQ(cup.pose.position, InstrumentGeometry(straight).local_colliders()[0].pose.position);
 }
 
 }  // namespace

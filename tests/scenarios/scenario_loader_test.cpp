@@ -132,6 +132,7 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.instrument.cup_diameter_m, 0.003, kTol);
   EXPECT_NEAR(w.instrument.cup_depth_m, 0.0015, kTol);
   EXPECT_NEAR(w.instrument.cup_wall_m, 0.0003, kTol);
+  EXPECT_NEAR(w.instrument.cup_opening_angle_rad, 120.0 * M_PI / 180.0, 1e-12);
   // 30 degrees about +y.
   const Quat expected(std::cos(M_PI / 12), 0.0, std::sin(M_PI / 12), 0.0);
   EXPECT_TRUE(w.instrument_start.orientation.isApprox(expected, 1e-12));
