@@ -952,9 +952,12 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   // Bounding boxes and speed bounds of the colliders.
   std::array<Vec3, 32> lo, hi;
   std::array<bool, 32> bounded;
+  std::array<double, 32> lin_speed{}, ang_speed{};
   for (std::size_t c = 0; c < n_coll; ++c) {
     const Collider& col = c < n_static ? statics_[c] : moving[c - n_static];
     bounded[c] = solver_.contact_culling && collider_bounds(col, &lo[c], &hi[c]);
+    lin_speed[c] = col.linear_velocity_m_s.norm();
+    ang_speed[c] = col.angular_velocity_rad_s.norm();
   }
   for (std::size_t k = 0; k < nh_; ++k) {
     density_[k] = 0.0;
@@ -984,6 +987,7 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
     const bool awake = k < na_;
     const Vec3 xi = x_[i];
     const Vec3 vi = v_[i];
+    const double vi_norm = vi.norm();
     std::uint32_t statics_mask = all_statics;
     if (solver_.contact_culling && vi.squaredNorm() <= slow_v2 * (1.0 - 1e-9)) {
       if (!((xi - static_ref_[i]).squaredNorm() <= mask_margin2)) {
@@ -1012,13 +1016,16 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
       if (bounded[kc]) {
         // The surface is at least box_gap away; the contact reach is at most
-        // contact + 0.1 h + |v_i - v_wall| dt.
-        const double v_wall = kc < n_static ? 0.0
-                                            : c.linear_velocity_m_s.norm() +
-                                                  c.angular_velocity_rad_s.norm() *
-                                                      (xi - c.pose.position).norm();
-        const double reach_bound = contact_ + 0.1 * h_ + (vi.norm() + v_wall) * dt;
-        if (box_gap(xi, lo[kc], hi[kc]) >= std::max(wall_range, reach_bound) * (1.0 + 1e-9))
+        // contact + 0.1 h + |v_i - v_wall| dt. (Compared squared: the bound has a 1e-9 margin,
+        // and a collider kept by rounding is skipped by the exact test below.)
+        const double v_wall =
+            kc < n_static ? 0.0
+                          : lin_speed[kc] + (ang_speed[kc] != 0.0
+                                                 ? ang_speed[kc] * (xi - c.pose.position).norm()
+                                                 : 0.0);
+        const double reach_bound = contact_ + 0.1 * h_ + (vi_norm + v_wall) * dt;
+        const double bound = std::max(wall_range, reach_bound) * (1.0 + 1e-9);
+        if ((lo[kc] - xi).cwiseMax(xi - hi[kc]).cwiseMax(0.0).squaredNorm() >= bound * bound)
           continue;
       }
       Vec3 normal;
