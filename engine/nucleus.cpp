@@ -852,6 +852,8 @@ void Nucleus::build_pairs() {
   // indices) is paired whole, its lower part only with particles that are not awake. Rows are
   // ordered by distance within each part, so the range and near/far tests branch alike from
   // row to row.
+  const bool propagate_wake = solver_.sleep_enabled;
+  const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = lg_[k];
     ensure_row(i);
@@ -861,6 +863,8 @@ void Nucleus::build_pairs() {
     const std::int32_t* rb = row_bond_.data() + row_start_[i];
     const std::int32_t upper = row_upper_[i];
     const Vec3 xi = x_[i];
+    // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
+    const bool moving_i = propagate_wake && v_[i].squaredNorm() >= slow2;
     auto visit = [&](std::int32_t c) {
       const std::int32_t j = rj[c];
       const Vec3 d = min_image(x_[j] - xi);
@@ -871,6 +875,10 @@ void Nucleus::build_pairs() {
         lj = static_cast<std::int32_t>(nh_++);
         local_[j] = lj;
         lg_[lj] = j;
+      }
+      if (moving_i && lj >= static_cast<std::int32_t>(na_) && !fixed_[j] && !wake_next_[j]) {
+        wake_next_[j] = 1;
+        wake_list_[wake_count_++] = j;
       }
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     };
@@ -919,22 +927,6 @@ void Nucleus::build_pairs() {
   }
   frozen_moving_ = false;
   for (std::size_t k = na_; k < nl_; ++k) frozen_moving_ = frozen_moving_ || fixed_[lg_[k]];
-  // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
-  if (solver_.sleep_enabled) {
-    const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
-    auto propagate = [&](std::size_t p) {
-      const std::int32_t lj = pair_j_[p];
-      if (lj < static_cast<std::int32_t>(na_)) return;
-      const std::int32_t j = lg_[lj];
-      if (fixed_[j] || wake_next_[j]) return;
-      if (v_[lg_[pair_i_[p]]].squaredNorm() >= slow2) {
-        wake_next_[j] = 1;
-        wake_list_[wake_count_++] = j;
-      }
-    };
-    for (std::size_t p = 0; p < near_awake_; ++p) propagate(p);
-    for (std::size_t p = cap - far_awake_; p < cap; ++p) propagate(p);
-  }
 }
 
 // Walls: for each particle of the step near a collider, the no-slip coupling, the density and
