@@ -319,6 +319,11 @@ class Nucleus {
   // range of the particle at the start of the step (bit k for collider k, statics first).
   std::vector<std::uint32_t> near_colliders_;  // na
   std::vector<std::uint8_t> all_colliders_;    // na: 1 = check every collider
+  // Static colliders that may be within the wall range of a particle (bit k for static k),
+  // found at static_ref_ and valid while the particle stays within kStaticMaskMargin h of it
+  // (setup_walls). N each; static_ref_ starts as NaN (no mask yet).
+  std::vector<Vec3> static_ref_;
+  std::vector<std::uint32_t> static_mask_;
 
   // Wall interactions (capacity W): a particle near a collider.
   struct WallHit {
