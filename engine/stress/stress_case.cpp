@@ -118,6 +118,10 @@ std::vector<StressCaseSpec> builtin_stress_cases(bool fast) {
   return out;
 }
 
+bool hold_energy_grew(double trend_J, double kinetic_early_J, double jitter_early_J) {
+  return trend_J > 0.01 * kinetic_early_J + 2.0 * jitter_early_J + 1e-12;
+}
+
 StressResult run_stress_case(const StressCaseSpec& spec) {
   StressResult res;
   res.name = spec.name;
@@ -142,7 +146,7 @@ StressResult run_stress_case(const StressCaseSpec& spec) {
   const auto t0 = std::chrono::steady_clock::now();
   bool window_started = false;
   double energy_start = 0.0;
-  double ke_early = 0.0, ke_late = 0.0, e_early = 0.0, e_late = 0.0;
+  double ke_early = 0.0, ke_late = 0.0, e_early = 0.0, e_late = 0.0, e2_early = 0.0;
   int n_early = 0, n_late = 0;
   for (int s = 0; s < steps; ++s) {
     const double t = (s + 1) * dt;
@@ -201,7 +205,9 @@ StressResult run_stress_case(const StressCaseSpec& spec) {
       // Kinetic energy in the first and second halves of the window.
       const bool late = t >= 0.5 * (t_window + t_end);
       (late ? ke_late : ke_early) += ke;
-      (late ? e_late : e_early) += nucleus->mechanical_energy_J();
+      const double e = nucleus->mechanical_energy_J();
+      (late ? e_late : e_early) += e;
+      if (!late) e2_early += e * e;
       ++(late ? n_late : n_early);
     }
     res.hold_energy_end_J = ke;
@@ -228,7 +234,10 @@ StressResult run_stress_case(const StressCaseSpec& spec) {
   const double e_early_mean = n_early ? e_early / n_early : 0.0;
   const double e_late_mean = n_late ? e_late / n_late : 0.0;
   res.hold_energy_trend_J = e_late_mean - e_early_mean;
-  res.energy_grew = res.hold_energy_trend_J > 0.01 * res.hold_kinetic_early_J + 1e-12;
+  res.hold_energy_jitter_J =
+      n_early ? std::sqrt(std::max(0.0, e2_early / n_early - e_early_mean * e_early_mean)) : 0.0;
+  res.energy_grew = hold_energy_grew(res.hold_energy_trend_J, res.hold_kinetic_early_J,
+                                     res.hold_energy_jitter_J);
   res.passed = !res.nan && !res.energy_grew && res.tunnelled == 0 &&
                res.peak_device_force_N <= res.device_limit_N * (1.0 + 1e-9);
   return res;

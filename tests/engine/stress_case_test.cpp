@@ -2,7 +2,9 @@
 // nothing driven, no particle through a wall, device force within its limit.
 #include "engine/stress/stress_case.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -29,6 +31,36 @@ INSTANTIATE_TEST_SUITE_P(Fast, StressCase, ::testing::ValuesIn(builtin_stress_ca
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;
                          });
+
+// The energy rule on synthetic hold series: growth (steady or exponential) fails, bounded
+// jitter of any size passes.
+TEST(StressSuite, EnergyRuleSeparatesGrowthFromJitter) {
+  auto judge = [](auto energy, int n) {
+    double early = 0, early2 = 0, late = 0;
+    for (int k = 0; k < n; ++k) {
+      const double e = energy(k);
+      if (k < n / 2) {
+        early += e;
+        early2 += e * e;
+      } else {
+        late += e;
+      }
+    }
+    const double m_early = early / (n / 2), m_late = late / (n - n / 2);
+    const double jitter = std::sqrt(std::max(0.0, early2 / (n / 2) - m_early * m_early));
+    return hold_energy_grew(m_late - m_early, 1e-7, jitter);
+  };
+  const double base = 1e-3;  // an offset, as gravity's potential gives
+  EXPECT_TRUE(judge([&](int k) { return base + 1e-7 * std::exp2(k / 5.0); }, 50));
+  EXPECT_TRUE(judge([&](int k) { return base + 1e-7 * k; }, 50));
+  // Jitter 50x the kinetic energy, no trend: a square wave and a pseudo-random sequence.
+  EXPECT_FALSE(judge([&](int k) { return base + ((k % 2) ? 5e-6 : -5e-6); }, 50));
+  unsigned state = 12345;
+  EXPECT_FALSE(judge([&](int) {
+    state = state * 1103515245u + 12345u;
+    return base + 5e-6 * (((state >> 16) & 0x7fff) / 16383.5 - 1.0);
+  }, 400));
+}
 
 TEST(StressSuite, CoversTheIssueSweeps) {
   const auto cases = builtin_stress_cases(true);

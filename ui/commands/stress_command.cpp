@@ -53,6 +53,7 @@ int run_stress(const StressOptions& options, std::ostream& out, std::ostream& er
                               {"hold_kinetic_early_J", r.hold_kinetic_early_J},
                               {"hold_kinetic_late_J", r.hold_kinetic_late_J},
                               {"hold_energy_trend_J", r.hold_energy_trend_J},
+                              {"hold_energy_jitter_J", r.hold_energy_jitter_J},
                               {"energy_grew", r.energy_grew},
                               {"tunnelled_particles", r.tunnelled},
                               {"instrument_overlaps", r.into_instrument},
