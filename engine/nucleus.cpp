@@ -824,11 +824,17 @@ void Nucleus::build_pairs() {
   // its own side (awake ones before halo ones, halo ones by index; self never appears); one
   // not numbered yet joins the step with the next local number from `next` (the halo for
   // awake particles, the outer ring for halo ones).
-  auto pair_row = [&](std::size_t k, std::size_t& next) {
+  // Starts local particle k's pairs: its Verlet row (built if needed) and where its near and
+  // far pairs begin.
+  auto open_row = [&](std::size_t k) {
     const std::int32_t i = lg_[k];
     ensure_row(i);
     row_near_[k] = static_cast<std::int32_t>(near_);
     row_far_[k] = static_cast<std::int32_t>(far_);
+    return i;
+  };
+  auto pair_row = [&](std::size_t k, std::size_t& next) {
+    const std::int32_t i = open_row(k);
     const std::int32_t* rj = row_j_.data() + row_start_[i];
     const std::int32_t* rb = row_bond_.data() + row_start_[i];
     const Vec3 xi = x_[i];
@@ -855,10 +861,7 @@ void Nucleus::build_pairs() {
   const bool propagate_wake = solver_.sleep_enabled;
   const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
   for (std::size_t k = 0; k < na_; ++k) {
-    const std::int32_t i = lg_[k];
-    ensure_row(i);
-    row_near_[k] = static_cast<std::int32_t>(near_);
-    row_far_[k] = static_cast<std::int32_t>(far_);
+    const std::int32_t i = open_row(k);
     const std::int32_t* rj = row_j_.data() + row_start_[i];
     const std::int32_t* rb = row_bond_.data() + row_start_[i];
     const std::int32_t upper = row_upper_[i];
