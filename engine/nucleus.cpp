@@ -75,27 +75,19 @@ constexpr double kStaticMaskMargin = 0.25;
 /// pressure by Mueller et al., SCA 2003), w(0) = 1. Its slope is steepest at r = 0, so two
 /// particles pushed together are pushed apart harder the closer they are; the poly6 shape's
 /// slope vanishes at r = 0 and let clumps of overlapped particles jitter at high pressure.
-inline double kernel(double r, double R) {
-  if (r >= R) return 0.0;
-  const double q = 1.0 - r / R;
-  return q * q * q;
-}
-/// dw/dr.
-inline double kernel_slope(double r, double R) {
-  if (r >= R) return 0.0;
-  const double q = 1.0 - r / R;
-  return -3.0 * q * q / R;
-}
+/// In terms of q = max(0, 1 - r/R): w = q^3, dw/dr = -3 q^2 / R.
+inline double kernel_of(double q) { return q * q * q; }
+inline double kernel(double r, double R) { return r >= R ? 0.0 : kernel_of(1.0 - r / R); }
 
 /// Weight of a pair in the viscous operator: (1 - r/R)^1.5 on R = 2.1 h. Chosen (by lattice
 /// sums, docs/verification.md) so that the effective viscosity hardly depends on how the
 /// lattice is sheared: layers sliding past each other by any fraction of h change it by
 /// 0..+3.4 % (the sharp 18-neighbour stencil, exact at rest, loses up to 45 % when a neighbour
 /// shell leaves the cut-off), while staying within 7 % of isotropic on the cubic lattice.
+/// In terms of q = max(0, 1 - r/R): q^1.5.
+inline double viscous_weight_of(double q) { return q * std::sqrt(q); }
 inline double viscous_weight(double r, double R) {
-  if (r >= R) return 0.0;
-  const double q = 1.0 - r / R;
-  return q * std::sqrt(q);
+  return r >= R ? 0.0 : viscous_weight_of(1.0 - r / R);
 }
 
 /// Smooth occupancy of a lattice site by a solid from its signed distance: 1 a half spacing
@@ -483,8 +475,9 @@ Vec3 Nucleus::min_image(const Vec3& d) const {
 // ones, the halo of sleeping particles within R of them, and the outer neighbours of the
 // halo, numbered compactly (local indices) so the solver's vectors are contiguous. Neighbours
 // come from per-particle Verlet rows (R + skin) that are rebuilt only after two particles
-// moved a skin together; pairs are split into those with an awake particle (all the solver's iterations
-// need) and the rest (only for densities). Nothing here loops over all particles or all bonds.
+// moved a skin together; pairs are split into those with an awake particle (all the solver's
+// iterations need) and the rest (only for densities). Nothing here loops over all particles or
+// all bonds.
 
 void Nucleus::step(double dt, std::span<const Collider> moving,
                    std::span<BodyReaction> reactions, NumericalReport& report) {
@@ -692,8 +685,11 @@ bool collider_bounds(const Collider& c, Vec3* lo, Vec3* hi) {
 
 /// Distance from p to the box [lo, hi] (0 inside): a lower bound of the distance to any solid
 /// inside the box.
+inline double box_gap2(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm();
+}
 inline double box_gap(const Vec3& p, const Vec3& lo, const Vec3& hi) {
-  return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).norm();
+  return std::sqrt(box_gap2(p, lo, hi));
 }
 
 }  // namespace
@@ -947,12 +943,9 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   // Bounding boxes and speed bounds of the colliders.
   std::array<Vec3, 32> lo, hi;
   std::array<bool, 32> bounded;
-  std::array<double, 32> lin_speed{}, ang_speed{};
   for (std::size_t c = 0; c < n_coll; ++c) {
     const Collider& col = c < n_static ? statics_[c] : moving[c - n_static];
     bounded[c] = solver_.contact_culling && collider_bounds(col, &lo[c], &hi[c]);
-    lin_speed[c] = col.linear_velocity_m_s.norm();
-    ang_speed[c] = col.angular_velocity_rad_s.norm();
   }
   for (std::size_t k = 0; k < nh_; ++k) {
     density_[k] = 0.0;
@@ -1015,13 +1008,13 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         // and a collider kept by rounding is skipped by the exact test below.)
         const double v_wall =
             kc < n_static ? 0.0
-                          : lin_speed[kc] + (ang_speed[kc] != 0.0
-                                                 ? ang_speed[kc] * (xi - c.pose.position).norm()
-                                                 : 0.0);
+                          : frame_lin_speed_[kc] +
+                                (frame_ang_speed_[kc] != 0.0
+                                     ? frame_ang_speed_[kc] * (xi - c.pose.position).norm()
+                                     : 0.0);
         const double reach_bound = contact_ + 0.1 * h_ + (vi_norm + v_wall) * dt;
         const double bound = std::max(wall_range, reach_bound) * (1.0 + 1e-9);
-        if ((lo[kc] - xi).cwiseMax(xi - hi[kc]).cwiseMax(0.0).squaredNorm() >= bound * bound)
-          continue;
+        if (box_gap2(xi, lo[kc], hi[kc]) >= bound * bound) continue;
       }
       Vec3 normal;
       const bool unrotated = frame_identity_[kc] != 0;
@@ -1183,13 +1176,15 @@ Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const V
   return sums;
 }
 
-// Per collider of this step (statics, then moving): whether its orientation is the identity,
-// and otherwise the lattice site offsets in its frame.
+// Per collider of this step (statics, then moving): its linear and angular speed, whether its
+// orientation is the identity, and otherwise the lattice site offsets in its frame.
 void Nucleus::collider_frames(std::span<const Collider> moving) {
   const std::size_t n_static = statics_.size();
   const std::size_t sites = site_offset_.size();
   for (std::size_t kc = 0; kc < n_static + moving.size(); ++kc) {
     const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
+    frame_lin_speed_[kc] = c.linear_velocity_m_s.norm();
+    frame_ang_speed_[kc] = c.angular_velocity_rad_s.norm();
     const Quat& q = c.pose.orientation;
     const bool identity = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
     frame_identity_[kc] = identity ? 1 : 0;
@@ -1345,10 +1340,10 @@ void Nucleus::assemble(double dt) {
     density_[k] = 0.0;  // outer particles: partial sums, never read
     second_moment_[k] = 0.0;
   }
-  // Neighbour sums: density (kernel units) and second moment. The kernels of `kernel` and
-  // `viscous_weight` inlined with the reciprocal radii (every near pair is inside both radii).
+  // Neighbour sums: density (kernel units) and second moment, the kernels' q from the
+  // reciprocal radii (every near pair is inside both radii).
   const double inv_R = 1.0 / R, inv_Rd = 1.0 / Rd;
-  const double slope_scale = -3.0 * inv_Rd / n0_;  // kernel_slope / n0 = slope_scale q^2
+  const double slope_scale = -3.0 * inv_Rd / n0_;  // dw/dr / n0 = slope_scale q^2
   // Row by row (every pair of row k has k as its first end), the first end's sums in
   // registers.
   const std::int32_t* pj = pair_j_.data();
@@ -1360,9 +1355,8 @@ void Nucleus::assemble(double dt) {
       const std::int32_t j = pj[p];
       const double r = pr[p];
       const double qd = std::max(0.0, 1.0 - r * inv_Rd);
-      const double w = qd * qd * qd;
-      const double qv = std::max(0.0, 1.0 - r * inv_R);
-      const double wv = qv * std::sqrt(qv);
+      const double w = kernel_of(qd);
+      const double wv = viscous_weight_of(std::max(0.0, 1.0 - r * inv_R));
       const double m2 = wv * r * r;
       dk += w;
       density_[j] += w;
@@ -1374,8 +1368,7 @@ void Nucleus::assemble(double dt) {
     for (std::size_t p = cap - row_far_[k + 1]; p < cap - row_far_[k]; ++p) {
       const std::int32_t j = pj[p];
       const double r = pr[p];
-      const double qv = std::max(0.0, 1.0 - r * inv_R);
-      const double wv = qv * std::sqrt(qv);
+      const double wv = viscous_weight_of(std::max(0.0, 1.0 - r * inv_R));
       const double m2 = wv * r * r;
       mk += m2;
       second_moment_[j] += m2;
@@ -1769,7 +1762,6 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
                        : 0.0;
   }
   // Contact forces: the constrained part of A v - b, divided by dt (A v kept by solve()).
-
   std::size_t w0 = 0;
   while (w0 < wall_count_) {
     // The hits of one particle are consecutive.
@@ -1846,12 +1838,6 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double tiny = 1e-4 * h_;
   const double wall_range = radius_ + 0.5 * h_;
   const double free_path = wall_range - contact_ - 0.01 * h_;
-  // Speeds of the moving colliders' frames (for the path bound of culled colliders).
-  std::array<double, kMaxMoving> lin_speed, ang_speed;
-  for (std::size_t m = 0; m < moving.size(); ++m) {
-    lin_speed[m] = moving[m].linear_velocity_m_s.norm();
-    ang_speed[m] = moving[m].angular_velocity_rad_s.norm();
-  }
   std::size_t hit_cursor = 0;  // walls_ holds each particle's hits consecutively, by local index
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = lg_[k];
@@ -1880,8 +1866,8 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
         // collider's material near it moved (|v| dt + |w| dt * distance).
         double path = moved;
         if (!is_static)
-          path += (lin_speed[c_idx - n_static] +
-                   ang_speed[c_idx - n_static] * (x_start_[i] - c.pose.position).norm()) *
+          path += (frame_lin_speed_[c_idx] +
+                   frame_ang_speed_[c_idx] * (x_start_[i] - c.pose.position).norm()) *
                   dt * 1.01;
         if (path < free_path) continue;
       }

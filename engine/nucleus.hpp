@@ -353,8 +353,9 @@ class Nucleus {
   std::vector<SiteSums> site_cache_;         // kMaxWallHitsPerParticle x N
   std::vector<std::uint8_t> site_cache_next_;  // N, entry to replace next
   std::size_t wall_count_ = 0;
-  // Per collider of this step (statics, then moving; see collider_frames): 1 if unrotated,
-  // and the lattice site offsets in its frame (32 x sites).
+  // Per collider of this step (statics, then moving; see collider_frames): its speeds (m/s,
+  // rad/s), 1 if unrotated, and the lattice site offsets in its frame (32 x sites).
+  std::array<double, 32> frame_lin_speed_{}, frame_ang_speed_{};
   std::array<std::uint8_t, 32> frame_identity_{};
   std::vector<Vec3> site_local_;
   double cache_turn_cos_ = 1.0;  // cos of half the wall-sum cache's turn limit

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -104,7 +105,7 @@ struct InstrumentConfig {
   /// Cup curette: angle between the shaft's direction toward the tip and the cup's opening,
   /// rad. pi/2 opens sideways (a straight curette); larger angles turn the opening back toward
   /// the handle, as on an angled (reverse) curette, so a pull stroke loads the cup's floor.
-  double cup_opening_angle_rad = 0.5 * 3.14159265358979323846;
+  double cup_opening_angle_rad = 0.5 * std::numbers::pi;
 
   /// Bending moment at which the shaft yields: M_yield = sigma_y * pi * d^3 / 32.
   double yield_moment_Nm() const;
