@@ -5,10 +5,9 @@
 // (a few hundred bytes per step) and, at each checkpoint time, hands the staging buffer over by
 // swapping it with an empty one under a try-lock: O(1), it never waits, and it wakes no one
 // (the writer looks every 10 ms, at a priority that never preempts the loops: SCHED_BATCH,
-// nice 10). If the writer has
-// not yet taken the previous hand-over (it is still writing one before it), nothing is handed
-// over this time: the data stays staged and goes with the next one, so nothing is lost and
-// nothing blocks. The writer thread appends what it is given to its own copy of the record
+// nice 10). If the writer has not yet taken the previous hand-over (it is still writing one
+// before it), nothing is handed over this time: the data stays staged and goes with the next
+// one, so nothing is lost and nothing blocks. The writer thread appends what it is given to its own copy of the record
 // (the metrics of a checkpoint are those of the whole record so far) and calls the same
 // CheckpointSink a headless run calls on its stepping thread (db/checkpoint_writer.hpp).
 // Buffers circulate between the three places (staged, handed over, being written), so after
@@ -36,7 +35,7 @@ struct LiveCheckpointStats {
   std::int64_t failed = 0;  ///< sink calls that did not (the next one carries their part)
   std::int64_t frames_saved = 0;  ///< frames in saved checkpoints
   std::size_t largest_frames = 0;  ///< largest hand-over (frames)
-  double handover_max_ms = 0.0;    ///< physics thread: one hand-over (try-lock, swap, notify)
+  double handover_max_ms = 0.0;    ///< physics thread: one hand-over (try-lock, swap)
   double write_mean_ms = 0.0;      ///< writer thread: one sink call (encode, metrics, compress,
   double write_max_ms = 0.0;       ///< transaction), per checkpoint
   bool background_priority = false;  ///< the writer runs at SCHED_BATCH, nice 10 (Linux)

@@ -152,12 +152,7 @@ TEST(AcdrRunRecord, KilledAttemptIsAbortedWithItsCheckpointedRecordingAndMetrics
   EXPECT_EQ(report["attempts"][0]["status"], "aborted");
 
   Database db = test::open_or_fail(db_path);
-  {
-    DbResult<Statement> s = db.prepare("PRAGMA integrity_check");
-    ASSERT_TRUE(s.ok());
-    ASSERT_TRUE(s->step().value());
-    EXPECT_EQ(s->column_text(0), "ok");
-  }
+  EXPECT_EQ(test::integrity_check(db), "ok");
   auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
   ASSERT_TRUE(attempts.ok()) << attempts.error().message;
   ASSERT_EQ(attempts->size(), 1u);
@@ -257,10 +252,7 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
   AttemptRecord a;
   {
     Database db = test::open_or_fail(db_path);
-    DbResult<Statement> s = db.prepare("PRAGMA integrity_check");
-    ASSERT_TRUE(s.ok());
-    ASSERT_TRUE(s->step().value());
-    EXPECT_EQ(s->column_text(0), "ok");
+    EXPECT_EQ(test::integrity_check(db), "ok");
     auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
     ASSERT_TRUE(attempts.ok()) << attempts.error().message;
     ASSERT_EQ(attempts->size(), 1u);

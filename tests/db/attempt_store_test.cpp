@@ -42,13 +42,6 @@ AttemptStart practice_start(const std::string& module = "m1") {
   return start;
 }
 
-std::string integrity_check(Database& db) {
-  DbResult<Statement> s = db.prepare("PRAGMA integrity_check");
-  EXPECT_TRUE(s.ok());
-  EXPECT_TRUE(s->step().value());
-  return s->column_text(0);
-}
-
 std::int64_t count_rows(Database& db, const char* sql, std::int64_t id) {
   DbResult<Statement> s = db.prepare(sql);
   EXPECT_TRUE(s.ok());
@@ -405,7 +398,7 @@ TEST(AttemptStore, WriterKilledMidTransactionLeavesAnIntactRecordAndAnAbortedAtt
 
   // The next program to open the record finds the attempt's writer gone.
   Database db = test::open_or_fail(path);
-  EXPECT_EQ(integrity_check(db), "ok");
+  EXPECT_EQ(test::integrity_check(db), "ok");
   DbResult<std::vector<AttemptRecord>> attempts =
       list_attempts(db, {}, AttemptDetail{true, true, true});
   ASSERT_TRUE(attempts.ok());
@@ -479,7 +472,7 @@ TEST(AttemptStore, KillDuringARealFinishIsAllOrNothing) {
     ASSERT_EQ(waitpid(child, &status, 0), child);
   }
   Database db = test::open_or_fail(path);
-  EXPECT_EQ(integrity_check(db), "ok");
+  EXPECT_EQ(test::integrity_check(db), "ok");
   DbResult<std::vector<AttemptRecord>> attempts =
       list_attempts(db, {}, AttemptDetail{true, true, true});
   ASSERT_TRUE(attempts.ok()) << attempts.error().message;
@@ -657,7 +650,7 @@ TEST(AttemptStore, SigkillMidAttemptLeavesAnAbortedAttemptWithItsCheckpointedRec
   ASSERT_TRUE(WIFSIGNALED(status));
 
   Database db = test::open_or_fail(path);  // the next start marks the attempt aborted
-  EXPECT_EQ(integrity_check(db), "ok");
+  EXPECT_EQ(test::integrity_check(db), "ok");
   auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
   ASSERT_TRUE(attempts.ok()) << attempts.error().message;
   ASSERT_EQ(attempts->size(), 1u);

@@ -40,13 +40,23 @@ AttemptRecording moving_tip(int frames) {
   return r;
 }
 
-TEST(CheckpointWriter, PiecesFromAGrowingRecordReadBackAsThatRecord) {
+// A record with one module and a running attempt on it.
+class CheckpointWriterTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    test::register_curriculum(db, 1);
+    AttemptStart start;
+    start.module_id = "m1";
+    DbResult<std::int64_t> begun = begin_attempt(db, start);
+    ASSERT_TRUE(begun.ok()) << begun.error().message;
+    id = begun.value();
+  }
   test::TempDir dir;
   Database db = test::open_or_fail(dir.file("record.sqlite"));
-  test::register_curriculum(db, 1);
-  AttemptStart start;
-  start.module_id = "m1";
-  const std::int64_t id = begin_attempt(db, start).value();
+  std::int64_t id = 0;
+};
+
+TEST_F(CheckpointWriterTest, PiecesFromAGrowingRecordReadBackAsThatRecord) {
 
   const AttemptRecording whole = moving_tip(320);
   AttemptRecording growing;
@@ -90,13 +100,7 @@ TEST(CheckpointWriter, PiecesFromAGrowingRecordReadBackAsThatRecord) {
   EXPECT_EQ(a.events[0].zone_index, 0);
 }
 
-TEST(CheckpointWriter, ARefusedCheckpointIsNotSavedAndWarnsOnce) {
-  test::TempDir dir;
-  Database db = test::open_or_fail(dir.file("record.sqlite"));
-  test::register_curriculum(db, 1);
-  AttemptStart start;
-  start.module_id = "m1";
-  const std::int64_t id = begin_attempt(db, start).value();
+TEST_F(CheckpointWriterTest, ARefusedCheckpointIsNotSavedAndWarnsOnce) {
   ASSERT_TRUE(abort_attempt(db, id, "gone").ok());  // no longer running: the store refuses
   std::ostringstream err;
   CheckpointWriter writer(db, id, err);

@@ -48,6 +48,21 @@ inline Database open_or_fail(const std::string& path, const OpenOptions& options
   return std::move(db.value());
 }
 
+/// `PRAGMA integrity_check` of a record: "ok" when intact (a failure is reported otherwise).
+inline std::string integrity_check(Database& db) {
+  DbResult<Statement> s = db.prepare("PRAGMA integrity_check");
+  if (!s.ok()) {
+    ADD_FAILURE() << s.error().message;
+    return "";
+  }
+  DbResult<bool> row = s->step();
+  if (!row.ok() || !row.value()) {
+    ADD_FAILURE() << "integrity_check returned no row";
+    return "";
+  }
+  return s->column_text(0);
+}
+
 /// prefix + number, e.g. numbered("m", 2) == "m2". (Appending, not `"m" + std::to_string(i)`:
 /// GCC 12 gives a false -Wrestrict warning on that form.)
 inline std::string numbered(const char* prefix, int n, const char* suffix = "") {

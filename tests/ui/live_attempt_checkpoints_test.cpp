@@ -170,16 +170,32 @@ Trajectory move_down(const Pose& start, double seconds) {
   return Trajectory(std::move(s));
 }
 
-TEST(LiveAttemptCheckpoints, ALiveAttemptCheckpointsOnTheScheduleFromAnotherThread) {
-  const auto scenario = empty_box();
-  World world(scenario->world);
-  TrajectoryReplay replay(move_down(scenario->world.instrument_start, 0.45));
-  LiveAttempt live(*scenario, world, replay);
-  SinkLog log;
-  live.set_checkpoints(0.1, [&](const CheckpointView& v) {
+// A live attempt on the empty box whose instrument moves down for `seconds`.
+struct LiveRig {
+  explicit LiveRig(double seconds)
+      : scenario(empty_box()),
+        world(scenario->world),
+        replay(move_down(scenario->world.instrument_start, seconds)),
+        live(*scenario, world, replay) {}
+  std::shared_ptr<const ScenarioModel> scenario;
+  World world;
+  TrajectoryReplay replay;
+  LiveAttempt live;
+};
+
+// A sink that logs every checkpoint into `log` and saves it.
+CheckpointSink logging_sink(SinkLog& log) {
+  return [&log](const CheckpointView& v) {
     log.add(v);
     return true;
-  });
+  };
+}
+
+TEST(LiveAttemptCheckpoints, ALiveAttemptCheckpointsOnTheScheduleFromAnotherThread) {
+  LiveRig rig(0.45);
+  LiveAttempt& live = rig.live;
+  SinkLog log;
+  live.set_checkpoints(0.1, logging_sink(log));
   live.start();
   const AttemptRun run = live.wait();
   ASSERT_EQ(run.end, AttemptEnd::kInputEnded);
@@ -208,15 +224,10 @@ TEST(LiveAttemptCheckpoints, ALiveAttemptCheckpointsOnTheScheduleFromAnotherThre
 }
 
 TEST(LiveAttemptCheckpoints, AnAbandonedLiveAttemptCheckpointsEverythingBeforeItIsClosed) {
-  const auto scenario = empty_box();
-  World world(scenario->world);
-  TrajectoryReplay replay(move_down(scenario->world.instrument_start, 2.0));
-  LiveAttempt live(*scenario, world, replay);
+  LiveRig rig(2.0);
+  LiveAttempt& live = rig.live;
   SinkLog log;
-  live.set_checkpoints(0.1, [&](const CheckpointView& v) {
-    log.add(v);
-    return true;
-  });
+  live.set_checkpoints(0.1, logging_sink(log));
   live.start();
   std::this_thread::sleep_for(250ms);
   live.request_stop(AttemptEnd::kStopped);
@@ -229,10 +240,8 @@ TEST(LiveAttemptCheckpoints, AnAbandonedLiveAttemptCheckpointsEverythingBeforeIt
 }
 
 TEST(LiveAttemptCheckpoints, WithoutAnIntervalThereAreNone) {
-  const auto scenario = empty_box();
-  World world(scenario->world);
-  TrajectoryReplay replay(move_down(scenario->world.instrument_start, 0.15));
-  LiveAttempt live(*scenario, world, replay);
+  LiveRig rig(0.15);
+  LiveAttempt& live = rig.live;
   int calls = 0;
   live.set_checkpoints(0.0, [&](const CheckpointView&) { return ++calls > 0; });
   live.start();

@@ -26,6 +26,13 @@
 namespace acdr {
 namespace {
 
+// The sink that saves an attempt's checkpoints through `writer` (which must outlive it).
+CheckpointSink checkpoint_sink(CheckpointWriter& writer) {
+  return [&writer](const CheckpointView& view) {
+    return writer.write(view.record, view.first_new_frame, view.first_new_event, view.t_s);
+  };
+}
+
 // Stores the run: finished in one transaction, or aborted when the trainee abandoned it.
 // Returns false with `error` set when the store refused.
 bool store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run, const World& world,
@@ -209,10 +216,7 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     if (auto second = Database::open(db_path, open); second) {
       checkpoint_db.emplace(std::move(second.value()));
       live_writer.emplace(*checkpoint_db, attempt_id.value(), err);
-      live_sink = [&live_writer](const CheckpointView& view) {
-        return live_writer->write(view.record, view.first_new_frame, view.first_new_event,
-                                  view.t_s);
-      };
+      live_sink = checkpoint_sink(*live_writer);
     } else {
       err << "warning: the attempt runs without checkpoints: " << second.error().message << "\n";
     }
@@ -270,10 +274,7 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     } else {
       CheckpointWriter checkpoints(db.value(), attempt_id.value(), err);
       run = run_attempt(scenario, world, *device, {}, options.checkpoint_every_s,
-                        [&checkpoints](const CheckpointView& view) {
-                          return checkpoints.write(view.record, view.first_new_frame,
-                                                   view.first_new_event, view.t_s);
-                        });
+                        checkpoint_sink(checkpoints));
     }
     std::string store_error;
     if (!store_run(db.value(), attempt_id.value(), run, world, options, &stored_as,
