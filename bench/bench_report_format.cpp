@@ -29,6 +29,8 @@ nlohmann::json point_json(const WorkPoint& p) {
           {"links", p.links},
           {"wall_s_per_sim_s", p.wall_s_per_sim_s},
           {"cpu_s_per_sim_s", p.cpu_s_per_sim_s},
+          {"timing_runs", p.timing_runs},
+          {"slowest_wall_s_per_sim_s", p.slowest_wall_s_per_sim_s},
           {"force_rms_error", p.force_rms_error},
           {"force_peak_error", p.force_peak_error},
           {"removed_error", p.removed_error},

@@ -53,6 +53,10 @@ struct BenchGrid {
   /// particles need time at rest to fall asleep) and last `skip_window_s`.
   double skip_lead_s = 0.8;
   double skip_window_s = 2.5;
+  /// Each of our solver's work-precision runs is timed this many times and the fastest kept:
+  /// the work is identical (deterministic: the traces are compared), so the spread is the
+  /// host's. On this shared machine runs minutes apart differ by up to ~1.5x.
+  int timing_runs = 3;
 };
 
 /// The full grid, or the quick one (within two minutes on this 2-core machine).
@@ -83,6 +87,8 @@ struct WorkPoint {
   std::size_t links = 0;
   double wall_s_per_sim_s = 0.0;
   double cpu_s_per_sim_s = 0.0;
+  int timing_runs = 1;                    ///< timed runs; the times above are the fastest
+  double slowest_wall_s_per_sim_s = 0.0;  ///< the slowest of those runs (host noise)
   double force_rms_error = 0.0;
   double force_peak_error = 0.0;
   double removed_error = 0.0;
