@@ -24,10 +24,11 @@
 // gamma the pair sum carries tau = gamma c T / (2 V) with T = sum_j w_ij r_x^2 r_z^2 / r^2, so
 //   c_ij = w_ij 2 mu V / T,
 // T taken from the rest lattice and scaled by each particle's weighted second moment (for
-// isotropic directions T = S / 15). The weights w = (1 - r/R)^1.5 on R = 2.1 h were chosen
-// from lattice sums: the 18-neighbour sharp stencil is exact at rest but loses up to 45 % of
-// its viscosity when particle layers slide past each other; these weights keep it within
-// 0..+3.4 % for every sliding offset (docs/verification.md). Solid walls enter the sum as
+// isotropic directions T = S / 15). The weights w = (1 - r/R)^1.25 on R = 1.98 h (26
+// neighbours) were chosen from lattice sums: the 18-neighbour sharp stencil is exact at rest
+// but loses up to 45 % of its viscosity when particle layers slide past each other; these
+// weights keep it within -3.6..0 % for every sliding offset (see viscous_weight_of). Solid
+// walls enter the sum as
 // lattice sites inside the solid whose velocity is mirrored through the wall (Morris, Fox &
 // Zhu, J Comput Phys 1997), so a lattice between two walls reproduces F = mu A U / H exactly.
 //
@@ -79,13 +80,17 @@ constexpr double kStaticMaskMargin = 0.25;
 inline double kernel_of(double q) { return q * q * q; }
 inline double kernel(double r, double R) { return r >= R ? 0.0 : kernel_of(1.0 - r / R); }
 
-/// Weight of a pair in the viscous operator: (1 - r/R)^1.5 on R = 2.1 h. Chosen (by lattice
-/// sums, docs/verification.md) so that the effective viscosity hardly depends on how the
-/// lattice is sheared: layers sliding past each other by any fraction of h change it by
-/// 0..+3.4 % (the sharp 18-neighbour stencil, exact at rest, loses up to 45 % when a neighbour
-/// shell leaves the cut-off), while staying within 7 % of isotropic on the cubic lattice.
-/// In terms of q = max(0, 1 - r/R): q^1.5.
-inline double viscous_weight_of(double q) { return q * std::sqrt(q); }
+/// Weight of a pair in the viscous operator: (1 - r/R)^1.25 on R = 1.98 h. Chosen by lattice
+/// sums (the viscosity of the pair operator under simple shear, T / S relative to rest) so
+/// that the effective viscosity hardly depends on how the lattice is sheared: layers sliding
+/// past each other along an axis by any fraction of h change it by -3.6..0 %, along a face
+/// diagonal by -1.6..+0.4 % (the sharp 18-neighbour stencil, exact at rest, loses up to 45 %
+/// when a neighbour shell leaves the cut-off), and shear along a face diagonal is within
+/// 1.2 % of shear along an axis. The earlier (1 - r/R)^1.5 on R = 2.1 h (32 neighbours; by the
+/// same sums 0..+1.8 %, 6.8 %) costs a fifth more pairs; cutting that radius without a
+/// flatter weight makes the operator anisotropic (R = 1.75 h: +51 % along a diagonal).
+/// In terms of q = max(0, 1 - r/R): q^1.25.
+inline double viscous_weight_of(double q) { return q * std::sqrt(std::sqrt(q)); }
 inline double viscous_weight(double r, double R) {
   return r >= R ? 0.0 : viscous_weight_of(1.0 - r / R);
 }

@@ -31,8 +31,9 @@ struct NumericalReport {
 /// them). Defaults are what the World uses.
 struct NucleusOptions {
   /// Interaction radius in units of the spacing h: viscosity acts between particles closer
-  /// than this (32 lattice neighbours at 2.1; see viscous_weight in nucleus.cpp).
-  double neighbor_radius_factor = 2.1;
+  /// than this (26 lattice neighbours at 1.98; see viscous_weight_of in nucleus.cpp, whose
+  /// weights are calibrated for this radius).
+  double neighbor_radius_factor = 1.98;
   /// Support of the density kernel (pressure), in units of h; at most the interaction radius.
   /// 1.7 reaches the 18 nearest lattice neighbours (at h and sqrt(2) h) with the spiky kernel
   /// still weighting the sqrt(2) h shell (at 1.5 h it nearly vanishes and buoyancy fails).

@@ -254,8 +254,11 @@ TEST(Nucleus, StateHashIsDeterministicAndMatchesTheGolden) {
   // the box demonstration from 1 s to 3 s the mean instrument force moved by 0.03 % and the
   // peak not at all. Re-recorded for the single-precision 4-lane pair part of apply (issue 5:
   // x and the pair sums rounded to float, ~1e-7 relative); on the box demonstration from 1 s
-  // to 3 s the mean instrument force moved by 0.012 % and the peak not at all.
-  constexpr std::uint64_t kGolden = 0xd59b39ba00e77a26ull;
+  // to 3 s the mean instrument force moved by 0.012 % and the peak not at all. Re-recorded for
+  // the 26-neighbour viscous stencil (R = 1.98 h, weights (1 - r/R)^1.25; issue 5: a fifth
+  // fewer pairs): on that demonstration the mean force moved by -0.09 %, the peak by -0.8 %,
+  // the 10 ms force windows by 1.1 % RMS; acdr verify 13/13 and acdr stress 13/13.
+  constexpr std::uint64_t kGolden = 0x069cd22d90f9864aull;
   EXPECT_EQ(a, kGolden) << "golden hash changed: 0x" << std::hex << a;
 }
 
