@@ -24,10 +24,11 @@
 // gamma the pair sum carries tau = gamma c T / (2 V) with T = sum_j w_ij r_x^2 r_z^2 / r^2, so
 //   c_ij = w_ij 2 mu V / T,
 // T taken from the rest lattice and scaled by each particle's weighted second moment (for
-// isotropic directions T = S / 15). The weights w = (1 - r/R)^1.5 on R = 2.1 h were chosen
-// from lattice sums: the 18-neighbour sharp stencil is exact at rest but loses up to 45 % of
-// its viscosity when particle layers slide past each other; these weights keep it within
-// 0..+3.4 % for every sliding offset (docs/verification.md). Solid walls enter the sum as
+// isotropic directions T = S / 15). The weights w = (1 - r/R)^1.25 on R = 1.98 h (26
+// neighbours) were chosen from lattice sums: the 18-neighbour sharp stencil is exact at rest
+// but loses up to 45 % of its viscosity when particle layers slide past each other; these
+// weights keep it within -3.6..0 % for every sliding offset (see viscous_weight_of). Solid
+// walls enter the sum as
 // lattice sites inside the solid whose velocity is mirrored through the wall (Morris, Fox &
 // Zhu, J Comput Phys 1997), so a lattice between two walls reproduces F = mu A U / H exactly.
 //
@@ -79,13 +80,17 @@ constexpr double kStaticMaskMargin = 0.25;
 inline double kernel_of(double q) { return q * q * q; }
 inline double kernel(double r, double R) { return r >= R ? 0.0 : kernel_of(1.0 - r / R); }
 
-/// Weight of a pair in the viscous operator: (1 - r/R)^1.5 on R = 2.1 h. Chosen (by lattice
-/// sums, docs/verification.md) so that the effective viscosity hardly depends on how the
-/// lattice is sheared: layers sliding past each other by any fraction of h change it by
-/// 0..+3.4 % (the sharp 18-neighbour stencil, exact at rest, loses up to 45 % when a neighbour
-/// shell leaves the cut-off), while staying within 7 % of isotropic on the cubic lattice.
-/// In terms of q = max(0, 1 - r/R): q^1.5.
-inline double viscous_weight_of(double q) { return q * std::sqrt(q); }
+/// Weight of a pair in the viscous operator: (1 - r/R)^1.25 on R = 1.98 h. Chosen by lattice
+/// sums (the viscosity of the pair operator under simple shear, T / S relative to rest) so
+/// that the effective viscosity hardly depends on how the lattice is sheared: layers sliding
+/// past each other along an axis by any fraction of h change it by -3.6..0 %, along a face
+/// diagonal by -1.6..+0.4 % (the sharp 18-neighbour stencil, exact at rest, loses up to 45 %
+/// when a neighbour shell leaves the cut-off), and shear along a face diagonal is within
+/// 1.2 % of shear along an axis. The earlier (1 - r/R)^1.5 on R = 2.1 h (32 neighbours; by the
+/// same sums 0..+1.8 %, 6.8 %) costs a fifth more pairs; cutting that radius without a
+/// flatter weight makes the operator anisotropic (R = 1.75 h: +51 % along a diagonal).
+/// In terms of q = max(0, 1 - r/R): q^1.25.
+inline double viscous_weight_of(double q) { return q * std::sqrt(std::sqrt(q)); }
 inline double viscous_weight(double r, double R) {
   return r >= R ? 0.0 : viscous_weight_of(1.0 - r / R);
 }
@@ -359,8 +364,11 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   pair_a_.assign(pair_cap_, 0.0);
   pair_g_.assign(pair_cap_, 0.0);
   pair_bond_.assign(pair_cap_, -1);
-  kernel_.assign(pair_cap_, PairKernel{0, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f});
-  pair_dn_.assign(pair_cap_, 0.0);
+  kernel_.assign(pair_cap_, PairKernel{0.0f, 0.0f, 0.0f, 0.0f, 0, 0.0f});
+  pair_dn_.assign(pair_cap_, 0.0f);
+  apply_x_.assign(n, F4{0.0f, 0.0f, 0.0f, 0.0f});
+  apply_y_.assign(n, F4{0.0f, 0.0f, 0.0f, 0.0f});
+  apply_s_.assign(n, 0.0f);
   row_near_.assign(n + 1, 0);
   row_far_.assign(n + 1, 0);
 
@@ -1493,8 +1501,8 @@ void Nucleus::assemble(double dt) {
       dj[3] += aj * xy; dj[4] += aj * xz; dj[5] += aj * yz;
       q_i -= g * nn;
       q_[j] += g * nn;
-      kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                    static_cast<float>(nn.z()), static_cast<float>(a), static_cast<float>(g)};
+      kernel_[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                    static_cast<float>(nn.z()), static_cast<float>(g), j, static_cast<float>(a)};
     }
     for (std::size_t p = cap - row_far_[i + 1]; p < cap - row_far_[i]; ++p) {
       const std::int32_t j = pj[p];
@@ -1514,8 +1522,8 @@ void Nucleus::assemble(double dt) {
       Sym3& dj = diag_inv_[j];
       dj[0] += a * xx; dj[1] += a * yy; dj[2] += a * zz;
       dj[3] += a * xy; dj[4] += a * xz; dj[5] += a * yz;
-      kernel_[p] = {j, static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                    static_cast<float>(nn.z()), static_cast<float>(a), 0.0f};
+      kernel_[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                    static_cast<float>(nn.z()), 0.0f, j, static_cast<float>(a)};
     }
     rhs_[i] += rhs_i;
     q_[i] += q_i;
@@ -1526,11 +1534,11 @@ void Nucleus::assemble(double dt) {
   // gradient still matters when a frozen particle moves (a full apply, the only reader).
   if (frozen_moving_) {
     for (std::size_t p = near_awake_; p < near_; ++p)
-      kernel_[p] = {pair_j_[p], static_cast<float>(pair_n_[p].x()),
-                    static_cast<float>(pair_n_[p].y()), static_cast<float>(pair_n_[p].z()), 0.0f,
-                    static_cast<float>(pair_g_[p])};
+      kernel_[p] = {static_cast<float>(pair_n_[p].x()), static_cast<float>(pair_n_[p].y()),
+                    static_cast<float>(pair_n_[p].z()), static_cast<float>(pair_g_[p]),
+                    pair_j_[p], 0.0f};
     for (std::size_t p = far_begin; p < far_awake_begin; ++p)
-      kernel_[p] = {pair_j_[p], 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+      kernel_[p] = {0.0f, 0.0f, 0.0f, 0.0f, pair_j_[p], 0.0f};
   }
   // Loose bonds cache their direction and implicit coefficient dt^2 k for the solver.
   for (std::size_t k = 0; k < loose_bonds_; ++k) {
@@ -1560,19 +1568,33 @@ void Nucleus::assemble(double dt) {
 // the awake particles are scratch. Pairs are walked row by row (all pairs of local particle i
 // have i as their first end and a larger second end), so the first end's sums stay in
 // registers.
+//
+// The pair part runs in single precision on 4-lane vectors (x, y, z, 0): a pair's direction
+// and gradient load as one vector, its relative velocity and force are one subtraction and
+// one multiplication, which halves the instructions of the double 2 + 1 lane form. The
+// operator's coefficients are single precision already (PairKernel); rounding x and the sums
+// perturbs A x by ~1e-7 relative, far below the solve tolerance. Mass, walls and loose bonds
+// stay double.
 void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   const std::size_t rows = full ? nh_ : na_;   // rows whose pairs are applied
   const std::size_t span = full ? nl_ : nh_;   // particles those pairs reach
   const std::size_t cap = pair_cap_;
-  double* s = s_.data();
+  F4* xf = apply_x_.data();
+  F4* yf = apply_y_.data();
+  float* s = apply_s_.data();
   const double* m = mass_l_.data();
+  for (std::size_t k = 0; k < span; ++k) {
+    xf[k] = F4{static_cast<float>(x[k].x()), static_cast<float>(x[k].y()),
+               static_cast<float>(x[k].z()), 0.0f};
+    yf[k] = F4{0.0f, 0.0f, 0.0f, 0.0f};
+    s[k] = 0.0f;
+  }
   for (std::size_t k = 0; k < na_; ++k) y[k] = m[k] * x[k];
   for (std::size_t k = na_; k < span; ++k) y[k] = Vec3::Zero();
-  for (std::size_t k = 0; k < span; ++k) s[k] = 0.0;
   for (std::size_t w = 0; w < wall_particles_; ++w) {
     const std::int32_t k = wall_particle_[w];
     y[k] += wall_c_[w] * x[k];
-    s[k] = wall_g_[w].dot(x[k]);
+    s[k] = static_cast<float>(wall_g_[w].dot(x[k]));
   }
   // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
   for (std::size_t k = 0; k < loose_bonds_; ++k) {
@@ -1582,54 +1604,114 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     y[i] -= f;
     y[j] += f;
   }
+  // n . d of a direction-and-gradient vector ng and a relative velocity d whose last lane is 0,
+  // summed as (t0 + t2) + (t1 + t3); dot3x2 gives two of them with the same sums (so a row
+  // gives the same bits whether its pairs go one or two at a time) in fewer shuffles.
+  auto dot3 = [](const F4& ng, const F4& d) {
+    F4 t = ng * d;
+    t += __builtin_shufflevector(t, t, 2, 3, 0, 1);
+    t += __builtin_shufflevector(t, t, 1, 0, 3, 2);
+    return t[0];
+  };
+  auto dot3x2 = [](const F4& ng0, const F4& d0, const F4& ng1, const F4& d1, float& dn0,
+                   float& dn1) {
+    const F4 t0 = ng0 * d0, t1 = ng1 * d1;
+    F4 u = __builtin_shufflevector(t0, t1, 0, 1, 4, 5) + __builtin_shufflevector(t0, t1, 2, 3, 6, 7);
+    u += __builtin_shufflevector(u, u, 1, 0, 3, 2);
+    dn0 = u[0];
+    dn1 = u[2];
+  };
   // Far pairs: viscosity and pair bonds (a n n^T on the relative velocity). Near pairs, first
   // pass: the divergence of the pressure (s), keeping each pair's relative normal velocity dn.
   const PairKernel* kr = kernel_.data();
   const std::int32_t* rn = row_near_.data();
   const std::int32_t* rf = row_far_.data();
-  double* dnp = pair_dn_.data();
+  float* dnp = pair_dn_.data();
   for (std::size_t i = 0; i < rows; ++i) {
-    const Vec3 xi = x[i];
-    double si = 0.0;
-    for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
+    const F4 xi = xf[i];
+    float si = 0.0f;
+    std::int32_t p = rn[i];
+    for (; p + 1 < rn[i + 1]; p += 2) {
+      const PairKernel& e0 = kr[p];
+      const PairKernel& e1 = kr[p + 1];
+      F4 ng0, ng1;
+      std::memcpy(&ng0, &e0, sizeof(F4));
+      std::memcpy(&ng1, &e1, sizeof(F4));
+      float dn0, dn1;
+      dot3x2(ng0, xf[e0.j] - xi, ng1, xf[e1.j] - xi, dn0, dn1);
+      dnp[p] = dn0;
+      dnp[p + 1] = dn1;
+      const float div0 = e0.g * dn0, div1 = e1.g * dn1;
+      si += div0;
+      s[e0.j] += div0;
+      si += div1;
+      s[e1.j] += div1;
+    }
+    if (p < rn[i + 1]) {
       const PairKernel& e = kr[p];
-      const double dn = Vec3(e.nx, e.ny, e.nz).dot(x[e.j] - xi);
+      F4 ng;
+      std::memcpy(&ng, &e, sizeof(F4));
+      const float dn = dot3(ng, xf[e.j] - xi);
       dnp[p] = dn;
-      const double div = e.g * dn;
+      const float div = e.g * dn;
       si += div;
       s[e.j] += div;
     }
     s[i] += si;
-    // Far pairs of row i sit at [cap - rf[i+1], cap - rf[i]).
-    Vec3 yi = Vec3::Zero();
-    for (std::size_t p = cap - rf[i + 1]; p < cap - rf[i]; ++p) {
-      const PairKernel& e = kr[p];
-      const Vec3 nn(e.nx, e.ny, e.nz);
-      const Vec3 f = (e.a * nn.dot(x[e.j] - xi)) * nn;
-      yi -= f;
-      y[e.j] += f;
+    // Far pairs of row i sit at [cap - rf[i+1], cap - rf[i]); their gradient lane is 0.
+    F4 yi = F4{0.0f, 0.0f, 0.0f, 0.0f};
+    std::size_t q = cap - rf[i + 1];
+    const std::size_t q_end = cap - rf[i];
+    for (; q + 1 < q_end; q += 2) {
+      const PairKernel& e0 = kr[q];
+      const PairKernel& e1 = kr[q + 1];
+      F4 n0, n1;
+      std::memcpy(&n0, &e0, sizeof(F4));
+      std::memcpy(&n1, &e1, sizeof(F4));
+      float dn0, dn1;
+      dot3x2(n0, xf[e0.j] - xi, n1, xf[e1.j] - xi, dn0, dn1);
+      const F4 f0 = (e0.a * dn0) * n0;
+      yi -= f0;
+      yf[e0.j] += f0;
+      const F4 f1 = (e1.a * dn1) * n1;
+      yi -= f1;
+      yf[e1.j] += f1;
     }
-    y[i] += yi;
+    if (q < q_end) {
+      const PairKernel& e = kr[q];
+      F4 n;
+      std::memcpy(&n, &e, sizeof(F4));
+      const F4 f = (e.a * dot3(n, xf[e.j] - xi)) * n;
+      yi -= f;
+      yf[e.j] += f;
+    }
+    yf[i] += yi;
   }
   // Near pairs, second pass: the viscous and bond force a dn n together with the gradient
   // pass of the pressure, y += sum_k coef_k (grad C_k . x) grad C_k, in one scattered update.
+  // (The forces' last lane carries coef * g: never read.)
   const double* pc = press_coef_.data();
-  for (std::size_t k = 0; k < span; ++k) s[k] *= pc[k];
+  for (std::size_t k = 0; k < span; ++k) s[k] = static_cast<float>(s[k] * pc[k]);
   for (std::size_t w = 0; w < wall_particles_; ++w) {
     const std::int32_t k = wall_particle_[w];
-    y[k] += s[k] * wall_g_[w];
+    y[k] += static_cast<double>(s[k]) * wall_g_[w];
   }
   for (std::size_t i = 0; i < rows; ++i) {
-    const double si = s[i];
-    Vec3 yi = Vec3::Zero();
+    const float si = s[i];
+    F4 yi = F4{0.0f, 0.0f, 0.0f, 0.0f};
     for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
       const PairKernel& e = kr[p];
-      const Vec3 f = (e.a * dnp[p] + (si + s[e.j]) * e.g) * Vec3(e.nx, e.ny, e.nz);
+      F4 ng;
+      std::memcpy(&ng, &e, sizeof(F4));
+      const F4 f = (e.a * dnp[p] + (si + s[e.j]) * e.g) * ng;
       yi -= f;
-      y[e.j] += f;
+      yf[e.j] += f;
     }
-    y[i] += yi;
+    yf[i] += yi;
   }
+  for (std::size_t k = 0; k < span; ++k)
+    y[k] += Vec3(static_cast<double>(yf[k][0]), static_cast<double>(yf[k][1]),
+                 static_cast<double>(yf[k][2]));
 }
 
 // Filtered, block-Jacobi preconditioned conjugate gradients on the awake particles (Baraff &

@@ -31,8 +31,9 @@ struct NumericalReport {
 /// them). Defaults are what the World uses.
 struct NucleusOptions {
   /// Interaction radius in units of the spacing h: viscosity acts between particles closer
-  /// than this (32 lattice neighbours at 2.1; see viscous_weight in nucleus.cpp).
-  double neighbor_radius_factor = 2.1;
+  /// than this (26 lattice neighbours at 1.98; see viscous_weight_of in nucleus.cpp, whose
+  /// weights are calibrated for this radius).
+  double neighbor_radius_factor = 1.98;
   /// Support of the density kernel (pressure), in units of h; at most the interaction radius.
   /// 1.7 reaches the 18 nearest lattice neighbours (at h and sqrt(2) h) with the spiky kernel
   /// still weighting the sqrt(2) h shell (at 1.5 h it nearly vanishes and buoyancy fails).
@@ -273,15 +274,21 @@ class Nucleus {
   // Rows: the pairs of local particle k are near [row_near_[k], row_near_[k+1]) and far
   // [cap - row_far_[k+1], cap - row_far_[k]) (nh + 1 each).
   std::vector<std::int32_t> row_near_, row_far_;
-  // The solver's compact copy of each pair (second end, direction, coefficients).
+  // The solver's compact copy of each pair (direction and density gradient first, so one
+  // 16-byte load gives both to the 4-lane apply; then the second end and coefficient).
   struct PairKernel {
-    std::int32_t j;
     float nx, ny, nz;
-    float a;  // dt c_ij (+ dt^2 k)
     float g;  // dW/dr / n0 (near pairs), 0 for far ones
+    std::int32_t j;
+    float a;  // dt c_ij (+ dt^2 k)
   };
   std::vector<PairKernel> kernel_;
-  std::vector<double> pair_dn_;  // apply scratch: n . (x_j - x_i) of the near pairs
+  std::vector<float> pair_dn_;  // apply scratch: n . (x_j - x_i) of the near pairs
+  // apply scratch, 4 single-precision lanes per particle (x, y, z, 0): its input and the pair
+  // part of its output (nl each), and the pair divergences (nl).
+  typedef float F4 __attribute__((vector_size(16)));
+  std::vector<F4> apply_x_, apply_y_;
+  std::vector<float> apply_s_;
   std::size_t pair_cap_ = 0;
   std::size_t near_ = 0, near_awake_ = 0, far_ = 0, far_awake_ = 0;
   std::size_t pairs_ = 0;
