@@ -1627,6 +1627,13 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   const std::int32_t* rn = row_near_.data();
   const std::int32_t* rf = row_far_.data();
   float* dnp = pair_dn_.data();
+  // Pairs k and k+1 of a row: their kernels' first lanes (direction, and the gradient or 0)
+  // and their relative normal velocities n . (x_j - x_i).
+  auto two_pairs = [&](std::size_t k, const F4& xi, F4& n0, F4& n1, float& dn0, float& dn1) {
+    std::memcpy(&n0, &kr[k], sizeof(F4));
+    std::memcpy(&n1, &kr[k + 1], sizeof(F4));
+    dot3x2(n0, xf[kr[k].j] - xi, n1, xf[kr[k + 1].j] - xi, dn0, dn1);
+  };
   for (std::size_t i = 0; i < rows; ++i) {
     const F4 xi = xf[i];
     float si = 0.0f;
@@ -1635,10 +1642,8 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
       const PairKernel& e0 = kr[p];
       const PairKernel& e1 = kr[p + 1];
       F4 ng0, ng1;
-      std::memcpy(&ng0, &e0, sizeof(F4));
-      std::memcpy(&ng1, &e1, sizeof(F4));
       float dn0, dn1;
-      dot3x2(ng0, xf[e0.j] - xi, ng1, xf[e1.j] - xi, dn0, dn1);
+      two_pairs(static_cast<std::size_t>(p), xi, ng0, ng1, dn0, dn1);
       dnp[p] = dn0;
       dnp[p + 1] = dn1;
       const float div0 = e0.g * dn0, div1 = e1.g * dn1;
@@ -1666,10 +1671,8 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
       const PairKernel& e0 = kr[q];
       const PairKernel& e1 = kr[q + 1];
       F4 n0, n1;
-      std::memcpy(&n0, &e0, sizeof(F4));
-      std::memcpy(&n1, &e1, sizeof(F4));
       float dn0, dn1;
-      dot3x2(n0, xf[e0.j] - xi, n1, xf[e1.j] - xi, dn0, dn1);
+      two_pairs(q, xi, n0, n1, dn0, dn1);
       const F4 f0 = (e0.a * dn0) * n0;
       yi -= f0;
       yf[e0.j] += f0;
