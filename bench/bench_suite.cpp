@@ -306,16 +306,15 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
                         s.tolerance = tol;
                         s.spacing_m = spacing;
                         if (!is_default) s.max_iterations = grid.reference_max_iterations;
+                        const WorldConfig config = apply_settings(base, s);
                         const int runs = std::max(1, grid.timing_runs);
                         auto part = [&](int r) {
                           return [&, r](double f) { progress((r + f) / runs); };
                         };
-                        RunTrace run = run_scene(apply_settings(base, s), sc.trajectory,
-                                                 sc.window, part(0));
+                        RunTrace run = run_scene(config, sc.trajectory, sc.window, part(0));
                         double slowest_wall_s = run.wall_s;
                         for (int r = 1; r < runs && !run.failed; ++r) {
-                          const RunTrace again = run_scene(apply_settings(base, s),
-                                                           sc.trajectory, sc.window, part(r));
+                          const RunTrace again = run_scene(config, sc.trajectory, sc.window, part(r));
                           if (again.force_N != run.force_N) {
                             run.failed = true;  // not deterministic: a bug, shown as FAILED
                             break;

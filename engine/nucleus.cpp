@@ -27,10 +27,10 @@
 // isotropic directions T = S / 15). The weights w = (1 - r/R)^1.25 on R = 1.98 h (26
 // neighbours) were chosen from lattice sums: the 18-neighbour sharp stencil is exact at rest
 // but loses up to 45 % of its viscosity when particle layers slide past each other; these
-// weights keep it within -3.6..0 % for every sliding offset (see viscous_weight_of). Solid
-// walls enter the sum as
-// lattice sites inside the solid whose velocity is mirrored through the wall (Morris, Fox &
-// Zhu, J Comput Phys 1997), so a lattice between two walls reproduces F = mu A U / H exactly.
+// weights keep it within -3.6..+0.4 % for every sliding offset (see viscous_weight_of). Solid
+// walls enter the sum as lattice sites inside the solid whose velocity is mirrored through the
+// wall (Morris, Fox & Zhu, J Comput Phys 1997), so a lattice between two walls reproduces
+// F = mu A U / H exactly.
 //
 // Pressure. A lattice of repulsive springs is a solid: it carries shear at rest, so its
 // stress under gravity is not hydrostatic and buoyancy comes out wrong. Instead the pressure

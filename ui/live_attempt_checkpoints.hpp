@@ -7,9 +7,10 @@
 // (the writer looks every 10 ms, at a priority that never preempts the loops: SCHED_BATCH,
 // nice 10). If the writer has not yet taken the previous hand-over (it is still writing one
 // before it), nothing is handed over this time: the data stays staged and goes with the next
-// one, so nothing is lost and nothing blocks. The writer thread appends what it is given to its own copy of the record
-// (the metrics of a checkpoint are those of the whole record so far) and calls the same
-// CheckpointSink a headless run calls on its stepping thread (db/checkpoint_writer.hpp).
+// one, so nothing is lost and nothing blocks. The writer thread appends what it is given to
+// its own copy of the record (the metrics of a checkpoint are those of the whole record so
+// far) and calls the same CheckpointSink a headless run calls on its stepping thread
+// (db/checkpoint_writer.hpp).
 // Buffers circulate between the three places (staged, handed over, being written), so after
 // the first rounds the physics side does not allocate unless the writer falls behind.
 #pragma once
