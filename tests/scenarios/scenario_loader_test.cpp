@@ -9,7 +9,9 @@
 
 #include <cstdio>
 #include <fstream>
+#include <set>
 
+#include "engine/nucleus.hpp"
 #include "engine/vertebra_generator.hpp"
 #include "scenarios/content_hash.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"
@@ -616,10 +618,58 @@ TEST(ScenarioLoaderAnatomy, BundledModulesLoadWithAnatomy) {
     const WorldConfig& w = r.model->world;
     EXPECT_TRUE(w.anatomy.enabled) << m;
     EXPECT_TRUE(w.anatomy.generate_zones) << m;
-    ASSERT_EQ(w.nucleus.blocks.size(), 2u) << m;
+    ASSERT_EQ(w.nucleus.blocks.size(), 4u) << m;  // nucleus, annulus, two cartilage endplates
     EXPECT_EQ(w.nucleus.blocks[0].shape, BlockShape::kEllipticCylinder);
     EXPECT_TRUE(w.nucleus.blocks[1].has_cutout);
     EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
+  }
+}
+
+// The cartilage endplates (docs/anatomy.md, "Disc space") are one lattice layer against each
+// bony endplate, on the nucleus's own lattice: no particle is doubled or crowded at the seams,
+// every cartilage particle lies beyond every nucleus particle along the spine, and the nucleus
+// keeps the six layers between them.
+TEST(ScenarioLoaderAnatomy, CartilageEndplatesAreTheLayersAgainstTheBone) {
+  for (const char* m : {"02_c4c5_healthy.json", "03_c4c5_degenerated.json", "04_full_discectomy.json"}) {
+    const LoadResult r = load_scenario_file(test::source_path(std::string("scenarios/modules/") + m));
+    ASSERT_TRUE(r.ok()) << to_string(r.errors);
+    const WorldConfig& w = r.model->world;
+    int nucleus_mat = -1, cartilage_mat = -1;
+    for (std::size_t k = 0; k < w.nucleus.materials.size(); ++k) {
+      if (w.nucleus.materials[k].name == "nucleus") nucleus_mat = static_cast<int>(k);
+      if (w.nucleus.materials[k].name == "endplate_cartilage") cartilage_mat = static_cast<int>(k);
+    }
+    ASSERT_GE(nucleus_mat, 0) << m;
+    ASSERT_GE(cartilage_mat, 0) << m;
+    EXPECT_TRUE(w.nucleus.materials[nucleus_mat].counts_as_target) << m;
+    EXPECT_FALSE(w.nucleus.materials[cartilage_mat].counts_as_target) << m;
+    // No bone: the lattice as the blocks lay it out.
+    const Nucleus n(w.nucleus, w.solver, Vec3::Zero(), {});
+    const auto x = n.positions();
+    const auto mat = n.materials();
+    const double h = w.nucleus.spacing_m;
+    double nucleus_lo = 1.0, nucleus_hi = -1.0;
+    std::set<long> nucleus_layers;
+    std::size_t cartilage = 0, nuclei = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      for (std::size_t j = i + 1; j < x.size(); ++j)
+        ASSERT_GT((x[i] - x[j]).norm(), 0.999 * h) << m << ": particles " << i << " and " << j;
+      if (mat[i] == nucleus_mat) {
+        ++nuclei;
+        nucleus_lo = std::min(nucleus_lo, x[i].y());
+        nucleus_hi = std::max(nucleus_hi, x[i].y());
+        nucleus_layers.insert(std::lround(x[i].y() / (0.01 * h)));
+      }
+    }
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (mat[i] != cartilage_mat) continue;
+      ++cartilage;
+      EXPECT_TRUE(x[i].y() < nucleus_lo - 0.99 * h || x[i].y() > nucleus_hi + 0.99 * h) << m;
+      EXPECT_LT(std::abs(x[i].y()), 0.5 * w.anatomy.segment.disc_height_m) << m;
+    }
+    EXPECT_EQ(nucleus_layers.size(), 6u) << m;
+    // Two layers of the nucleus's outline: a third as many as the six nucleus layers.
+    EXPECT_EQ(3 * cartilage, nuclei) << m;
   }
 }
 
