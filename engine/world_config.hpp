@@ -40,8 +40,9 @@ enum class BlockShape : std::uint8_t {
 // --- end anatomy ---
 
 /// A region filled with particles on a cubic lattice anchored at `min_m`: the box [min, max],
-/// or (anatomy) the part of it inside an elliptic cylinder or ring. Blocks sharing `min_m`
-/// share their lattice, so a nucleus and the annulus ring around it meet without a seam.
+/// or (anatomy) the part of it inside an elliptic cylinder or ring. Blocks whose `min_m` differ
+/// by whole multiples of the spacing share their lattice, so a nucleus, the annulus ring around
+/// it and the cartilage endplate layers above and below it meet without a seam.
 struct ParticleBlockConfig {
   Vec3 min_m = Vec3::Zero();
   Vec3 max_m = Vec3::Zero();
