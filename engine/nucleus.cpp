@@ -1471,63 +1471,77 @@ void Nucleus::assemble(double dt) {
   // Row by row over the awake particles (their rows hold exactly the pairs with an awake
   // particle), the first end's sums in registers.
   for (std::size_t k = 0; k < nh_; ++k) pf[k] -= s_[k];  // pressure force less wall motion
+  // The arrays as local pointers: the scattered stores below could alias the vectors' own
+  // members, so the compiler would otherwise reload every base pointer for every pair.
+  const Vec3* pn = pair_n_.data();
+  const double* pa = pair_a_.data();
+  const double* pg = pair_g_.data();
+  const std::int32_t* pb = pair_bond_.data();
+  const double* bk = bond_k_.data();
+  const double* brest = bond_rest_.data();
+  Vec3* rhs = rhs_.data();
+  Vec3* qv = q_.data();
+  Sym3* diag = diag_inv_.data();
+  PairKernel* kern = kernel_.data();
+  const std::int32_t* rnear = row_near_.data();
+  const std::int32_t* rfar = row_far_.data();
   for (std::size_t i = 0; i < na_; ++i) {
     const double hv_i = hv[i], pf_i = pf[i], pc_i = pc[i];
     Vec3 rhs_i = Vec3::Zero();
     Vec3 q_i = Vec3::Zero();
     double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0, d4 = 0.0, d5 = 0.0;
-    for (std::int32_t p = row_near_[i]; p < row_near_[i + 1]; ++p) {
+    for (std::int32_t p = rnear[i]; p < rnear[i + 1]; ++p) {
       const std::int32_t j = pj[p];
-      const Vec3& nn = pair_n_[p];
-      double a = pair_a_[p] * (hv_i + hv[j]);
-      const double g = pair_g_[p];
+      const Vec3& nn = pn[p];
+      double a = pa[p] * (hv_i + hv[j]);
+      const double g = pg[p];
       double fs = (pf_i + pf[j]) * g;
-      const std::int32_t b = pair_bond_[p];
+      const std::int32_t b = pb[p];
       if (b >= 0) {
-        const double k = bond_k_[b];
+        const double k = bk[b];
         a += dt2 * k;
-        fs += dt * k * (pr[p] - bond_rest_[b]);
+        fs += dt * k * (pr[p] - brest[b]);
       }
       const Vec3 f = fs * nn;
       rhs_i += f;
-      rhs_[j] -= f;
+      rhs[j] -= f;
       const double g2 = g * g;
       const double ai = a + pc[j] * g2, aj = a + pc_i * g2;
       const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
       const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
       d0 += ai * xx; d1 += ai * yy; d2 += ai * zz; d3 += ai * xy; d4 += ai * xz; d5 += ai * yz;
-      Sym3& dj = diag_inv_[j];
+      Sym3& dj = diag[j];
       dj[0] += aj * xx; dj[1] += aj * yy; dj[2] += aj * zz;
       dj[3] += aj * xy; dj[4] += aj * xz; dj[5] += aj * yz;
       q_i -= g * nn;
-      q_[j] += g * nn;
-      kernel_[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                    static_cast<float>(nn.z()), static_cast<float>(g), j, static_cast<float>(a)};
+      qv[j] += g * nn;
+      kern[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                 static_cast<float>(nn.z()), static_cast<float>(g), j, static_cast<float>(a)};
     }
-    for (std::size_t p = cap - row_far_[i + 1]; p < cap - row_far_[i]; ++p) {
+    for (std::size_t p = cap - rfar[i + 1]; p < cap - rfar[i]; ++p) {
       const std::int32_t j = pj[p];
-      const Vec3& nn = pair_n_[p];
-      double a = pair_a_[p] * (hv_i + hv[j]);
-      const std::int32_t b = pair_bond_[p];
+      const Vec3& nn = pn[p];
+      double a = pa[p] * (hv_i + hv[j]);
+      const std::int32_t b = pb[p];
       if (b >= 0) {
-        const double k = bond_k_[b];
+        const double k = bk[b];
         a += dt2 * k;
-        const Vec3 f = (dt * k * (pr[p] - bond_rest_[b])) * nn;
+        const Vec3 f = (dt * k * (pr[p] - brest[b])) * nn;
         rhs_i += f;
-        rhs_[j] -= f;
+        rhs[j] -= f;
       }
       const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
       const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
       d0 += a * xx; d1 += a * yy; d2 += a * zz; d3 += a * xy; d4 += a * xz; d5 += a * yz;
-      Sym3& dj = diag_inv_[j];
+      Sym3& dj = diag[j];
       dj[0] += a * xx; dj[1] += a * yy; dj[2] += a * zz;
       dj[3] += a * xy; dj[4] += a * xz; dj[5] += a * yz;
-      kernel_[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                    static_cast<float>(nn.z()), 0.0f, j, static_cast<float>(a)};
+      kern[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                 static_cast<float>(nn.z()), 0.0f, j, static_cast<float>(a)};
     }
-    rhs_[i] += rhs_i;
-    q_[i] += q_i;
-    Sym3& di = diag_inv_[i];
+    rhs[i] += rhs_i;
+    qv[i] += q_i;
+    Sym3& di = diag[i];
     di[0] += d0; di[1] += d1; di[2] += d2; di[3] += d3; di[4] += d4; di[5] += d5;
   }
   // Pairs without an awake particle never act on an awake row (coefficient 0); their density
