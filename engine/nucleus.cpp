@@ -1069,11 +1069,14 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         w.visc = e.visc_t * Eigen::Matrix3d::Identity();
         w.visc(face_axis, face_axis) = e.visc_n;
       } else if (d < wall_range) {
-        // The sums depend on where the particle is relative to the solid only (cached).
-        const SiteSums sums = solver_.wall_sum_cache
-                                  ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
-                                  : site_sums(c, static_cast<std::int32_t>(kc), xi,
-                                              to_local(c.pose, unrotated, xi), d);
+        // The sums depend on where the particle is relative to the solid only (cached; read
+        // in place, not copied).
+        SiteSums uncached;
+        const SiteSums& sums =
+            solver_.wall_sum_cache
+                ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
+                : (uncached = site_sums(c, static_cast<std::int32_t>(kc), xi,
+                                        to_local(c.pose, unrotated, xi), d));
         density_[k] += sums.n;
         second_moment_[k] += sums.s2;
         w.grad = sums.grad;
@@ -1207,8 +1210,8 @@ void Nucleus::collider_frames(std::span<const Collider> moving) {
 // collider has turned less than the tolerance over R since they were computed: the sums are
 // a function of that relative placement only (a translated collider carries its sums along;
 // the lattice of sites is world-aligned, hence the turn limit).
-Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
-                                            const Vec3& x, double d) {
+const Nucleus::SiteSums& Nucleus::cached_site_sums(std::int32_t kc, const Collider& c,
+                                                   std::int32_t i, const Vec3& x, double d) {
   const double tol = solver_.wall_sum_cache_tolerance * h_;
   const Vec3 local = to_local(c.pose, frame_identity_[kc] != 0, x);
   SiteSums* entries = &site_cache_[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];

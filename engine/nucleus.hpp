@@ -149,8 +149,8 @@ class Nucleus {
   SiteSums site_sums(const Collider& c, std::int32_t kc, const Vec3& x, const Vec3& local,
                      double d) const;
   void collider_frames(std::span<const Collider> moving);
-  SiteSums cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i, const Vec3& x,
-                            double d);
+  const SiteSums& cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
+                                   const Vec3& x, double d);
   bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
   void build_wall_table();
   WallTableEntry wall_table_at(double d) const;
