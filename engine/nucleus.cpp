@@ -1941,6 +1941,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double wall_range = radius_ + 0.5 * h_;
   const double free_path = wall_range - contact_ - 0.01 * h_;
   std::size_t hit_cursor = 0;  // walls_ holds each particle's hits consecutively, by local index
+  const std::uint32_t static_bits = n_static >= 32 ? ~0u : ((1u << n_static) - 1u);
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = lg_[k];
     const std::uint32_t near_mask = near_colliders_[k];
@@ -1958,8 +1959,20 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
     // The statics' second round sees the same position, path and hits as their first when no
     // collider moved the particle in between: it would find nothing either (skipped).
     bool projected = false;
-    for (std::size_t pass = 0; pass < n_all + (moving.empty() ? 0 : n_static); ++pass) {
-      if (pass == n_all && !projected) break;
+    const std::size_t n_pass = n_all + (moving.empty() ? 0 : n_static);
+    // The first pass from `pass` on that can find anything: a static collider the particle was
+    // not near is skipped below while its path (the particle's own displacement, the same for
+    // every static) is free, so those passes are stepped over at once with the near mask.
+    auto next_pass = [&](std::size_t pass) -> std::size_t {
+      if (check_all || !(moved < free_path)) return pass;
+      const std::size_t base = pass < n_all ? 0 : n_all;
+      const std::size_t c_idx = pass - base;
+      if (c_idx >= n_static) return pass;
+      const std::uint32_t rest = near_mask & static_bits & (~0u << c_idx);
+      return rest ? base + static_cast<std::size_t>(__builtin_ctz(rest)) : base + n_static;
+    };
+    for (std::size_t pass = next_pass(0); pass < n_pass; pass = next_pass(pass + 1)) {
+      if (pass >= n_all && !projected) break;
       const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
       const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
