@@ -349,7 +349,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   row_scratch_j_.assign(4 * lattice + 64, 0);
   row_scratch_b_.assign(4 * lattice + 64, 0);
   row_scratch_bucket_.assign(4 * lattice + 64, 0);
+  row_scratch_r2_.assign(4 * lattice + 64, 0.0f);
   row_upper_.assign(n, 0);
+  row_beyond_.assign(n, 0);
+  row_r2_.assign(row_cap, 0.0f);
   row_used_ = 0;
   partner_bond_.assign(n, -1);
 
@@ -573,8 +576,10 @@ void Nucleus::update_grid() {
   };
   for (std::size_t k = 0; k < active_count_; ++k) note(active_[k]);
   for (const std::int32_t i : fixed_list_) note(i);
-  const bool rebuild = !grid_valid_ || !(std::sqrt(m1) + std::sqrt(m2) < skin_);
+  disp_bound_ = std::sqrt(m1) + std::sqrt(m2);
+  const bool rebuild = !grid_valid_ || !(disp_bound_ < skin_);
   if (!rebuild) return;
+  disp_bound_ = 0.0;
   frozen_disp2_ = {0.0, 0.0};
   grid_.build(x_, radius_ + skin_, options_.periodic, options_.periodic_min_m,
               options_.periodic_max_m);
@@ -624,7 +629,10 @@ void Nucleus::ensure_row(std::int32_t i) {
     }
     const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
     const std::size_t c = row_used_ - start;
-    if (c < scratch) row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
+    if (c < scratch) {
+      row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
+      row_scratch_r2_[c] = static_cast<float>(r2);
+    }
     ++count[bucket + 1];
     row_j_[row_used_] = j;
     row_bond_[row_used_] = partner_bond_[j];
@@ -639,16 +647,18 @@ void Nucleus::ensure_row(std::int32_t i) {
   row_len_[i] = static_cast<std::int32_t>(len);
   // Order by bucket (stable counting sort; see row_upper_). A row longer than the scratch is
   // only split into its upper and lower parts (the ordering only saves time).
-  std::int32_t upper = 0;
+  std::int32_t upper = 0, beyond = 0;
   if (len <= scratch) {
     std::copy(row_j_.begin() + start, row_j_.begin() + row_used_, row_scratch_j_.begin());
     std::copy(row_bond_.begin() + start, row_bond_.begin() + row_used_, row_scratch_b_.begin());
     for (int b = 0; b < 6; ++b) count[b + 1] += count[b];
     upper = count[3];
+    beyond = count[2];
     for (std::size_t c = 0; c < len; ++c) {
       const std::size_t at = start + count[row_scratch_bucket_[c]]++;
       row_j_[at] = row_scratch_j_[c];
       row_bond_[at] = row_scratch_b_[c];
+      row_r2_[at] = row_scratch_r2_[c];
     }
   } else {
     // Unordered: upper/lower partition only (in place, order within the parts lost).
@@ -663,8 +673,10 @@ void Nucleus::ensure_row(std::int32_t i) {
       }
     }
     upper = static_cast<std::int32_t>(lo - start);
+    beyond = upper;
   }
   row_upper_[i] = upper;
+  row_beyond_[i] = beyond;
 }
 
 namespace {
@@ -864,6 +876,13 @@ void Nucleus::build_pairs() {
   // row to row.
   const bool propagate_wake = solver_.sleep_enabled;
   const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
+  // An entry of the upper part's beyond bucket that was at least R + disp_bound_ away at the
+  // build is at least R away now (no particle has moved farther; a 1e-6 relative margin
+  // covers the single-precision distances): the range test below would reject it, so it is
+  // skipped on its build distance alone. (Periodic domains: not used.)
+  const double reach_now = (radius_ + disp_bound_) * (1.0 + 1e-6);
+  const float far2 = periodic_ ? std::numeric_limits<float>::infinity()
+                               : static_cast<float>(reach_now * reach_now * (1.0 + 1e-6));
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = open_row(k);
     const std::int32_t* rj = row_j_.data() + row_start_[i];
@@ -889,7 +908,11 @@ void Nucleus::build_pairs() {
       }
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     };
-    for (std::int32_t c = 0; c < upper; ++c) visit(c);
+    const float* rr = row_r2_.data() + row_start_[i];
+    const std::int32_t beyond = row_beyond_[i];
+    for (std::int32_t c = 0; c < beyond; ++c) visit(c);
+    for (std::int32_t c = beyond; c < upper; ++c)
+      if (rr[c] < far2) visit(c);
     for (std::int32_t c = upper; c < row_len_[i]; ++c)
       if (!awake_[rj[c]]) visit(c);
   }
