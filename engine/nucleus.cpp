@@ -880,6 +880,27 @@ void Nucleus::build_pairs() {
   // build is at least R away now (no particle has moved farther; a 1e-6 relative margin
   // covers the single-precision distances): the range test below would reject it, so it is
   // skipped on its build distance alone. (Periodic domains: not used.)
+  // Lower parts pair only the particles that are not awake. When there are few of those, the
+  // rows that can hold one are marked from its side, and the others skip their lower part: a
+  // non-awake j is in the lower part of row i only if i > j lies in the 27 grid cells around
+  // j's build position (the cells are neighbours of each other both ways).
+  const std::size_t n_all = x_.size();
+  const bool mark_lower = (n_all - na_) * 16 <= na_;
+  std::int32_t lower_mark = 0;
+  if (mark_lower) {
+    lower_mark = ++stamp_value_;
+    std::size_t a = 0;
+    for (std::size_t j = 0; j < n_all; ++j) {
+      const std::int32_t jj = static_cast<std::int32_t>(j);
+      if (a < na_ && active_[a] == jj) {
+        ++a;
+        continue;
+      }
+      grid_.for_each_near(x_built_[j], [&](std::int32_t i, const Vec3&) {
+        if (i > jj) stamp_[i] = lower_mark;
+      });
+    }
+  }
   const double reach_now = (radius_ + disp_bound_) * (1.0 + 1e-6);
   const float far2 = periodic_ ? std::numeric_limits<float>::infinity()
                                : static_cast<float>(reach_now * reach_now * (1.0 + 1e-6));
@@ -913,8 +934,9 @@ void Nucleus::build_pairs() {
     for (std::int32_t c = 0; c < beyond; ++c) visit(c);
     for (std::int32_t c = beyond; c < upper; ++c)
       if (rr[c] < far2) visit(c);
-    for (std::int32_t c = upper; c < row_len_[i]; ++c)
-      if (!awake_[rj[c]]) visit(c);
+    if (!mark_lower || stamp_[i] == lower_mark)
+      for (std::int32_t c = upper; c < row_len_[i]; ++c)
+        if (!awake_[rj[c]]) visit(c);
   }
   near_awake_ = near_;
   far_awake_ = far_;
