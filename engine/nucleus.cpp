@@ -1645,18 +1645,28 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   F4* yf = apply_y_.data();
   float* s = apply_s_.data();
   const double* m = mass_l_.data();
-  for (std::size_t k = 0; k < span; ++k) {
+  // Per particle, in one pass: the single-precision input, the mass and wall terms in y, and
+  // the wall part of the divergence (wall_slot_ is set on [0, nh)).
+  const std::int32_t* slot = wall_slot_.data();
+  const std::size_t walled = std::min(span, nh_);
+  auto init = [&](std::size_t k) {
     xf[k] = F4{static_cast<float>(x[k].x()), static_cast<float>(x[k].y()),
                static_cast<float>(x[k].z()), 0.0f};
     yf[k] = F4{0.0f, 0.0f, 0.0f, 0.0f};
     s[k] = 0.0f;
+    if (k < walled && slot[k] >= 0) {
+      const std::int32_t w = slot[k];
+      y[k] += wall_c_[w] * x[k];
+      s[k] = static_cast<float>(wall_g_[w].dot(x[k]));
+    }
+  };
+  for (std::size_t k = 0; k < na_; ++k) {
+    y[k] = m[k] * x[k];
+    init(k);
   }
-  for (std::size_t k = 0; k < na_; ++k) y[k] = m[k] * x[k];
-  for (std::size_t k = na_; k < span; ++k) y[k] = Vec3::Zero();
-  for (std::size_t w = 0; w < wall_particles_; ++w) {
-    const std::int32_t k = wall_particle_[w];
-    y[k] += wall_c_[w] * x[k];
-    s[k] = static_cast<float>(wall_g_[w].dot(x[k]));
+  for (std::size_t k = na_; k < span; ++k) {
+    y[k] = Vec3::Zero();
+    init(k);
   }
   // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
   for (std::size_t k = 0; k < loose_bonds_; ++k) {
@@ -1756,10 +1766,9 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   // pass of the pressure, y += sum_k coef_k (grad C_k . x) grad C_k, in one scattered update.
   // (The forces' last lane carries coef * g: never read.)
   const double* pc = press_coef_.data();
-  for (std::size_t k = 0; k < span; ++k) s[k] = static_cast<float>(s[k] * pc[k]);
-  for (std::size_t w = 0; w < wall_particles_; ++w) {
-    const std::int32_t k = wall_particle_[w];
-    y[k] += static_cast<double>(s[k]) * wall_g_[w];
+  for (std::size_t k = 0; k < span; ++k) {
+    s[k] = static_cast<float>(s[k] * pc[k]);
+    if (k < walled && slot[k] >= 0) y[k] += static_cast<double>(s[k]) * wall_g_[slot[k]];
   }
   for (std::size_t i = 0; i < rows; ++i) {
     const float si = s[i];
