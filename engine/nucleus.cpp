@@ -1904,12 +1904,27 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     const WallHit& hit = walls_[w];
     s_[hit.particle] -= hit.grad.dot(hit.v_wall);
   }
-  const std::size_t near_end = frozen_moving_ ? near_ : near_awake_;
-  for (std::size_t p = 0; p < near_end; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const double div = pair_g_[p] * pair_n_[p].dot(v[j] - v[i]);
-    s_[i] += div;
-    s_[j] += div;
+  // Row by row (the near pairs [0, near_awake_) or [0, near_) are rows [0, na) or [0, nh)),
+  // the first end's sum in a register: it is complete from the earlier rows when its own row
+  // starts, and no later row reaches it, so the additions are the same in the same order.
+  {
+    const std::size_t near_rows = frozen_moving_ ? nh_ : na_;
+    const std::int32_t* rn = row_near_.data();
+    const std::int32_t* pj = pair_j_.data();
+    const double* pg = pair_g_.data();
+    const Vec3* pn = pair_n_.data();
+    double* s = s_.data();
+    for (std::size_t i = 0; i < near_rows; ++i) {
+      const Vec3 vi = v[i];
+      double si = s[i];
+      for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
+        const std::int32_t j = pj[p];
+        const double div = pg[p] * pn[p].dot(v[j] - vi);
+        si += div;
+        s[j] += div;
+      }
+      s[i] = si;
+    }
   }
   for (std::size_t k = 0; k < nh_; ++k) {
     const std::int32_t i = lg_[k];
