@@ -2160,10 +2160,11 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
 // (seed Eq. 9-10). Only bonds of awake or fixed particles can have changed length.
 void Nucleus::break_bonds() {
   auto test = [&](std::int32_t b) {
-    if (!bond_alive_[b] || bond_break_[b] <= 0.0) return;
+    if (!bond_alive_[b]) return;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     // |r - L| > delta  <=>  r^2 > (L + delta)^2 or r^2 < (L - delta)^2 (the latter only
-    // when L > delta): no square root per bond.
+    // when L > delta): no square root per bond. An unbreakable bond (delta <= 0) has the
+    // bounds +inf and 0, which no r^2 passes, so it needs no test of its own.
     const double r2 = min_image(x_[j] - x_[i]).squaredNorm();
     if (r2 > bond_break_hi2_[b] || r2 < bond_break_lo2_[b]) {
       bond_alive_[b] = 0;
