@@ -1023,6 +1023,7 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   const double slow_v2 = slow_reach > 0.0 ? (slow_reach / dt) * (slow_reach / dt) : -1.0;
   const std::uint32_t all_statics =
       n_static >= 32 ? ~0u : ((1u << n_static) - 1u);
+  const std::uint32_t moving_bits = (n_coll >= 32 ? ~0u : ((1u << n_coll) - 1u)) & ~all_statics;
   for (std::size_t k = 0; k < nh_; ++k) {
     const std::int32_t i = lg_[k];
     const bool awake = k < na_;
@@ -1052,8 +1053,9 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
     Vec3 cn[3];
     double ct[3];
     int nc = 0;
-    for (std::size_t kc = 0; kc < n_coll; ++kc) {
-      if (kc < n_static && !(statics_mask & (1u << kc))) continue;
+    // The colliders to look at (the statics in the mask, every moving one), in index order.
+    for (std::uint32_t todo = statics_mask | moving_bits; todo != 0; todo &= todo - 1) {
+      const std::size_t kc = static_cast<std::size_t>(__builtin_ctz(todo));
       const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
       if (bounded[kc]) {
         // The surface is at least box_gap away; the contact reach is at most
@@ -1102,8 +1104,6 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       // at the surface. A site's pair term then couples the particle to the wall velocity with
       // (1 + d_site / d) times its weight: the tensor `visc` (scaled by the particle's viscous
       // coefficient in assemble()). On the lattice this is mu A / d for the first layer.
-      w.grad = Vec3::Zero();
-      w.visc = Eigen::Matrix3d::Zero();
       int face_axis = -1;
       if (d < wall_range && flat_face(c, xi, d, normal, &face_axis)) {
         // An axis-aligned flat face seen by every site: the sums depend on d only (table).
@@ -1126,6 +1126,9 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         second_moment_[k] += sums.s2;
         w.grad = sums.grad;
         w.visc = sums.visc;
+      } else {
+        w.grad = Vec3::Zero();  // beyond the wall range: only a contact
+        w.visc = Eigen::Matrix3d::Zero();
       }
       grad_sum += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
