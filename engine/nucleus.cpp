@@ -349,7 +349,10 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   row_scratch_j_.assign(4 * lattice + 64, 0);
   row_scratch_b_.assign(4 * lattice + 64, 0);
   row_scratch_bucket_.assign(4 * lattice + 64, 0);
+  row_scratch_r2_.assign(4 * lattice + 64, 0.0f);
   row_upper_.assign(n, 0);
+  row_beyond_.assign(n, 0);
+  row_r2_.assign(row_cap, 0.0f);
   row_used_ = 0;
   partner_bond_.assign(n, -1);
 
@@ -573,8 +576,10 @@ void Nucleus::update_grid() {
   };
   for (std::size_t k = 0; k < active_count_; ++k) note(active_[k]);
   for (const std::int32_t i : fixed_list_) note(i);
-  const bool rebuild = !grid_valid_ || !(std::sqrt(m1) + std::sqrt(m2) < skin_);
+  disp_bound_ = std::sqrt(m1) + std::sqrt(m2);
+  const bool rebuild = !grid_valid_ || !(disp_bound_ < skin_);
   if (!rebuild) return;
+  disp_bound_ = 0.0;
   frozen_disp2_ = {0.0, 0.0};
   grid_.build(x_, radius_ + skin_, options_.periodic, options_.periodic_min_m,
               options_.periodic_max_m);
@@ -624,7 +629,10 @@ void Nucleus::ensure_row(std::int32_t i) {
     }
     const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
     const std::size_t c = row_used_ - start;
-    if (c < scratch) row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
+    if (c < scratch) {
+      row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
+      row_scratch_r2_[c] = static_cast<float>(r2);
+    }
     ++count[bucket + 1];
     row_j_[row_used_] = j;
     row_bond_[row_used_] = partner_bond_[j];
@@ -639,16 +647,18 @@ void Nucleus::ensure_row(std::int32_t i) {
   row_len_[i] = static_cast<std::int32_t>(len);
   // Order by bucket (stable counting sort; see row_upper_). A row longer than the scratch is
   // only split into its upper and lower parts (the ordering only saves time).
-  std::int32_t upper = 0;
+  std::int32_t upper = 0, beyond = 0;
   if (len <= scratch) {
     std::copy(row_j_.begin() + start, row_j_.begin() + row_used_, row_scratch_j_.begin());
     std::copy(row_bond_.begin() + start, row_bond_.begin() + row_used_, row_scratch_b_.begin());
     for (int b = 0; b < 6; ++b) count[b + 1] += count[b];
     upper = count[3];
+    beyond = count[2];
     for (std::size_t c = 0; c < len; ++c) {
       const std::size_t at = start + count[row_scratch_bucket_[c]]++;
       row_j_[at] = row_scratch_j_[c];
       row_bond_[at] = row_scratch_b_[c];
+      row_r2_[at] = row_scratch_r2_[c];
     }
   } else {
     // Unordered: upper/lower partition only (in place, order within the parts lost).
@@ -663,8 +673,10 @@ void Nucleus::ensure_row(std::int32_t i) {
       }
     }
     upper = static_cast<std::int32_t>(lo - start);
+    beyond = upper;
   }
   row_upper_[i] = upper;
+  row_beyond_[i] = beyond;
 }
 
 namespace {
@@ -864,6 +876,34 @@ void Nucleus::build_pairs() {
   // row to row.
   const bool propagate_wake = solver_.sleep_enabled;
   const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
+  // An entry of the upper part's beyond bucket that was at least R + disp_bound_ away at the
+  // build is at least R away now (no particle has moved farther; a 1e-6 relative margin
+  // covers the single-precision distances): the range test below would reject it, so it is
+  // skipped on its build distance alone. (Periodic domains: not used.)
+  // Lower parts pair only the particles that are not awake. When there are few of those, the
+  // rows that can hold one are marked from its side, and the others skip their lower part: a
+  // non-awake j is in the lower part of row i only if i > j lies in the 27 grid cells around
+  // j's build position (the cells are neighbours of each other both ways).
+  const std::size_t n_all = x_.size();
+  const bool mark_lower = (n_all - na_) * 16 <= na_;
+  std::int32_t lower_mark = 0;
+  if (mark_lower) {
+    lower_mark = ++stamp_value_;
+    std::size_t a = 0;
+    for (std::size_t j = 0; j < n_all; ++j) {
+      const std::int32_t jj = static_cast<std::int32_t>(j);
+      if (a < na_ && active_[a] == jj) {
+        ++a;
+        continue;
+      }
+      grid_.for_each_near(x_built_[j], [&](std::int32_t i, const Vec3&) {
+        if (i > jj) stamp_[i] = lower_mark;
+      });
+    }
+  }
+  const double reach_now = (radius_ + disp_bound_) * (1.0 + 1e-6);
+  const float far2 = periodic_ ? std::numeric_limits<float>::infinity()
+                               : static_cast<float>(reach_now * reach_now * (1.0 + 1e-6));
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = open_row(k);
     const std::int32_t* rj = row_j_.data() + row_start_[i];
@@ -889,9 +929,14 @@ void Nucleus::build_pairs() {
       }
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     };
-    for (std::int32_t c = 0; c < upper; ++c) visit(c);
-    for (std::int32_t c = upper; c < row_len_[i]; ++c)
-      if (!awake_[rj[c]]) visit(c);
+    const float* rr = row_r2_.data() + row_start_[i];
+    const std::int32_t beyond = row_beyond_[i];
+    for (std::int32_t c = 0; c < beyond; ++c) visit(c);
+    for (std::int32_t c = beyond; c < upper; ++c)
+      if (rr[c] < far2) visit(c);
+    if (!mark_lower || stamp_[i] == lower_mark)
+      for (std::int32_t c = upper; c < row_len_[i]; ++c)
+        if (!awake_[rj[c]]) visit(c);
   }
   near_awake_ = near_;
   far_awake_ = far_;
@@ -978,6 +1023,7 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   const double slow_v2 = slow_reach > 0.0 ? (slow_reach / dt) * (slow_reach / dt) : -1.0;
   const std::uint32_t all_statics =
       n_static >= 32 ? ~0u : ((1u << n_static) - 1u);
+  const std::uint32_t moving_bits = (n_coll >= 32 ? ~0u : ((1u << n_coll) - 1u)) & ~all_statics;
   for (std::size_t k = 0; k < nh_; ++k) {
     const std::int32_t i = lg_[k];
     const bool awake = k < na_;
@@ -1007,8 +1053,9 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
     Vec3 cn[3];
     double ct[3];
     int nc = 0;
-    for (std::size_t kc = 0; kc < n_coll; ++kc) {
-      if (kc < n_static && !(statics_mask & (1u << kc))) continue;
+    // The colliders to look at (the statics in the mask, every moving one), in index order.
+    for (std::uint32_t todo = statics_mask | moving_bits; todo != 0; todo &= todo - 1) {
+      const std::size_t kc = static_cast<std::size_t>(__builtin_ctz(todo));
       const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
       if (bounded[kc]) {
         // The surface is at least box_gap away; the contact reach is at most
@@ -1057,8 +1104,6 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       // at the surface. A site's pair term then couples the particle to the wall velocity with
       // (1 + d_site / d) times its weight: the tensor `visc` (scaled by the particle's viscous
       // coefficient in assemble()). On the lattice this is mu A / d for the first layer.
-      w.grad = Vec3::Zero();
-      w.visc = Eigen::Matrix3d::Zero();
       int face_axis = -1;
       if (d < wall_range && flat_face(c, xi, d, normal, &face_axis)) {
         // An axis-aligned flat face seen by every site: the sums depend on d only (table).
@@ -1069,15 +1114,21 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         w.visc = e.visc_t * Eigen::Matrix3d::Identity();
         w.visc(face_axis, face_axis) = e.visc_n;
       } else if (d < wall_range) {
-        // The sums depend on where the particle is relative to the solid only (cached).
-        const SiteSums sums = solver_.wall_sum_cache
-                                  ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
-                                  : site_sums(c, static_cast<std::int32_t>(kc), xi,
-                                              to_local(c.pose, unrotated, xi), d);
+        // The sums depend on where the particle is relative to the solid only (cached; read
+        // in place, not copied).
+        SiteSums uncached;
+        const SiteSums& sums =
+            solver_.wall_sum_cache
+                ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
+                : (uncached = site_sums(c, static_cast<std::int32_t>(kc), xi,
+                                        to_local(c.pose, unrotated, xi), d));
         density_[k] += sums.n;
         second_moment_[k] += sums.s2;
         w.grad = sums.grad;
         w.visc = sums.visc;
+      } else {
+        w.grad = Vec3::Zero();  // beyond the wall range: only a contact
+        w.visc = Eigen::Matrix3d::Zero();
       }
       grad_sum += w.grad;
       // Contact constraint: approaching or resting particles within reach. The normal velocity
@@ -1207,8 +1258,8 @@ void Nucleus::collider_frames(std::span<const Collider> moving) {
 // collider has turned less than the tolerance over R since they were computed: the sums are
 // a function of that relative placement only (a translated collider carries its sums along;
 // the lattice of sites is world-aligned, hence the turn limit).
-Nucleus::SiteSums Nucleus::cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
-                                            const Vec3& x, double d) {
+const Nucleus::SiteSums& Nucleus::cached_site_sums(std::int32_t kc, const Collider& c,
+                                                   std::int32_t i, const Vec3& x, double d) {
   const double tol = solver_.wall_sum_cache_tolerance * h_;
   const Vec3 local = to_local(c.pose, frame_identity_[kc] != 0, x);
   SiteSums* entries = &site_cache_[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];
@@ -1471,63 +1522,77 @@ void Nucleus::assemble(double dt) {
   // Row by row over the awake particles (their rows hold exactly the pairs with an awake
   // particle), the first end's sums in registers.
   for (std::size_t k = 0; k < nh_; ++k) pf[k] -= s_[k];  // pressure force less wall motion
+  // The arrays as local pointers: the scattered stores below could alias the vectors' own
+  // members, so the compiler would otherwise reload every base pointer for every pair.
+  const Vec3* pn = pair_n_.data();
+  const double* pa = pair_a_.data();
+  const double* pg = pair_g_.data();
+  const std::int32_t* pb = pair_bond_.data();
+  const double* bk = bond_k_.data();
+  const double* brest = bond_rest_.data();
+  Vec3* rhs = rhs_.data();
+  Vec3* qv = q_.data();
+  Sym3* diag = diag_inv_.data();
+  PairKernel* kern = kernel_.data();
+  const std::int32_t* rnear = row_near_.data();
+  const std::int32_t* rfar = row_far_.data();
   for (std::size_t i = 0; i < na_; ++i) {
     const double hv_i = hv[i], pf_i = pf[i], pc_i = pc[i];
     Vec3 rhs_i = Vec3::Zero();
     Vec3 q_i = Vec3::Zero();
     double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0, d4 = 0.0, d5 = 0.0;
-    for (std::int32_t p = row_near_[i]; p < row_near_[i + 1]; ++p) {
+    for (std::int32_t p = rnear[i]; p < rnear[i + 1]; ++p) {
       const std::int32_t j = pj[p];
-      const Vec3& nn = pair_n_[p];
-      double a = pair_a_[p] * (hv_i + hv[j]);
-      const double g = pair_g_[p];
+      const Vec3& nn = pn[p];
+      double a = pa[p] * (hv_i + hv[j]);
+      const double g = pg[p];
       double fs = (pf_i + pf[j]) * g;
-      const std::int32_t b = pair_bond_[p];
+      const std::int32_t b = pb[p];
       if (b >= 0) {
-        const double k = bond_k_[b];
+        const double k = bk[b];
         a += dt2 * k;
-        fs += dt * k * (pr[p] - bond_rest_[b]);
+        fs += dt * k * (pr[p] - brest[b]);
       }
       const Vec3 f = fs * nn;
       rhs_i += f;
-      rhs_[j] -= f;
+      rhs[j] -= f;
       const double g2 = g * g;
       const double ai = a + pc[j] * g2, aj = a + pc_i * g2;
       const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
       const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
       d0 += ai * xx; d1 += ai * yy; d2 += ai * zz; d3 += ai * xy; d4 += ai * xz; d5 += ai * yz;
-      Sym3& dj = diag_inv_[j];
+      Sym3& dj = diag[j];
       dj[0] += aj * xx; dj[1] += aj * yy; dj[2] += aj * zz;
       dj[3] += aj * xy; dj[4] += aj * xz; dj[5] += aj * yz;
       q_i -= g * nn;
-      q_[j] += g * nn;
-      kernel_[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                    static_cast<float>(nn.z()), static_cast<float>(g), j, static_cast<float>(a)};
+      qv[j] += g * nn;
+      kern[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                 static_cast<float>(nn.z()), static_cast<float>(g), j, static_cast<float>(a)};
     }
-    for (std::size_t p = cap - row_far_[i + 1]; p < cap - row_far_[i]; ++p) {
+    for (std::size_t p = cap - rfar[i + 1]; p < cap - rfar[i]; ++p) {
       const std::int32_t j = pj[p];
-      const Vec3& nn = pair_n_[p];
-      double a = pair_a_[p] * (hv_i + hv[j]);
-      const std::int32_t b = pair_bond_[p];
+      const Vec3& nn = pn[p];
+      double a = pa[p] * (hv_i + hv[j]);
+      const std::int32_t b = pb[p];
       if (b >= 0) {
-        const double k = bond_k_[b];
+        const double k = bk[b];
         a += dt2 * k;
-        const Vec3 f = (dt * k * (pr[p] - bond_rest_[b])) * nn;
+        const Vec3 f = (dt * k * (pr[p] - brest[b])) * nn;
         rhs_i += f;
-        rhs_[j] -= f;
+        rhs[j] -= f;
       }
       const double xx = nn.x() * nn.x(), yy = nn.y() * nn.y(), zz = nn.z() * nn.z();
       const double xy = nn.x() * nn.y(), xz = nn.x() * nn.z(), yz = nn.y() * nn.z();
       d0 += a * xx; d1 += a * yy; d2 += a * zz; d3 += a * xy; d4 += a * xz; d5 += a * yz;
-      Sym3& dj = diag_inv_[j];
+      Sym3& dj = diag[j];
       dj[0] += a * xx; dj[1] += a * yy; dj[2] += a * zz;
       dj[3] += a * xy; dj[4] += a * xz; dj[5] += a * yz;
-      kernel_[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
-                    static_cast<float>(nn.z()), 0.0f, j, static_cast<float>(a)};
+      kern[p] = {static_cast<float>(nn.x()), static_cast<float>(nn.y()),
+                 static_cast<float>(nn.z()), 0.0f, j, static_cast<float>(a)};
     }
-    rhs_[i] += rhs_i;
-    q_[i] += q_i;
-    Sym3& di = diag_inv_[i];
+    rhs[i] += rhs_i;
+    qv[i] += q_i;
+    Sym3& di = diag[i];
     di[0] += d0; di[1] += d1; di[2] += d2; di[3] += d3; di[4] += d4; di[5] += d5;
   }
   // Pairs without an awake particle never act on an awake row (coefficient 0); their density
@@ -1583,18 +1648,28 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   F4* yf = apply_y_.data();
   float* s = apply_s_.data();
   const double* m = mass_l_.data();
-  for (std::size_t k = 0; k < span; ++k) {
+  // Per particle, in one pass: the single-precision input, the mass and wall terms in y, and
+  // the wall part of the divergence (wall_slot_ is set on [0, nh)).
+  const std::int32_t* slot = wall_slot_.data();
+  const std::size_t walled = std::min(span, nh_);
+  auto init = [&](std::size_t k) {
     xf[k] = F4{static_cast<float>(x[k].x()), static_cast<float>(x[k].y()),
                static_cast<float>(x[k].z()), 0.0f};
     yf[k] = F4{0.0f, 0.0f, 0.0f, 0.0f};
     s[k] = 0.0f;
+    if (k < walled && slot[k] >= 0) {
+      const std::int32_t w = slot[k];
+      y[k] += wall_c_[w] * x[k];
+      s[k] = static_cast<float>(wall_g_[w].dot(x[k]));
+    }
+  };
+  for (std::size_t k = 0; k < na_; ++k) {
+    y[k] = m[k] * x[k];
+    init(k);
   }
-  for (std::size_t k = 0; k < na_; ++k) y[k] = m[k] * x[k];
-  for (std::size_t k = na_; k < span; ++k) y[k] = Vec3::Zero();
-  for (std::size_t w = 0; w < wall_particles_; ++w) {
-    const std::int32_t k = wall_particle_[w];
-    y[k] += wall_c_[w] * x[k];
-    s[k] = static_cast<float>(wall_g_[w].dot(x[k]));
+  for (std::size_t k = na_; k < span; ++k) {
+    y[k] = Vec3::Zero();
+    init(k);
   }
   // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
   for (std::size_t k = 0; k < loose_bonds_; ++k) {
@@ -1634,10 +1709,43 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     std::memcpy(&n1, &kr[k + 1], sizeof(F4));
     dot3x2(n0, xf[kr[k].j] - xi, n1, xf[kr[k + 1].j] - xi, dn0, dn1);
   };
+  // Pairs k .. k+3: their kernels' first lanes and their relative normal velocities as one
+  // vector, each summed as dot3 sums it, (t0 + t2) + (t1 + t3), in a 4 x 4 transpose-add.
+  auto four_pairs = [&](std::size_t k, const F4& xi, F4& n0, F4& n1, F4& n2, F4& n3) {
+    std::memcpy(&n0, &kr[k], sizeof(F4));
+    std::memcpy(&n1, &kr[k + 1], sizeof(F4));
+    std::memcpy(&n2, &kr[k + 2], sizeof(F4));
+    std::memcpy(&n3, &kr[k + 3], sizeof(F4));
+    const F4 t0 = n0 * (xf[kr[k].j] - xi), t1 = n1 * (xf[kr[k + 1].j] - xi);
+    const F4 t2 = n2 * (xf[kr[k + 2].j] - xi), t3 = n3 * (xf[kr[k + 3].j] - xi);
+    const F4 u01 = __builtin_shufflevector(t0, t1, 0, 1, 4, 5) +
+                   __builtin_shufflevector(t0, t1, 2, 3, 6, 7);
+    const F4 u23 = __builtin_shufflevector(t2, t3, 0, 1, 4, 5) +
+                   __builtin_shufflevector(t2, t3, 2, 3, 6, 7);
+    return F4(__builtin_shufflevector(u01, u23, 0, 2, 4, 6) +
+              __builtin_shufflevector(u01, u23, 1, 3, 5, 7));
+  };
   for (std::size_t i = 0; i < rows; ++i) {
     const F4 xi = xf[i];
     float si = 0.0f;
     std::int32_t p = rn[i];
+    for (; p + 3 < rn[i + 1]; p += 4) {
+      F4 ng0, ng1, ng2, ng3;
+      const F4 dn = four_pairs(static_cast<std::size_t>(p), xi, ng0, ng1, ng2, ng3);
+      std::memcpy(&dnp[p], &dn, sizeof(F4));
+      const F4 g = __builtin_shufflevector(__builtin_shufflevector(ng0, ng1, 3, 7, 3, 7),
+                                           __builtin_shufflevector(ng2, ng3, 3, 7, 3, 7), 0, 1,
+                                           4, 5);
+      const F4 div = g * dn;
+      si += div[0];
+      s[kr[p].j] += div[0];
+      si += div[1];
+      s[kr[p + 1].j] += div[1];
+      si += div[2];
+      s[kr[p + 2].j] += div[2];
+      si += div[3];
+      s[kr[p + 3].j] += div[3];
+    }
     for (; p + 1 < rn[i + 1]; p += 2) {
       const PairKernel& e0 = kr[p];
       const PairKernel& e1 = kr[p + 1];
@@ -1667,6 +1775,22 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     F4 yi = F4{0.0f, 0.0f, 0.0f, 0.0f};
     std::size_t q = cap - rf[i + 1];
     const std::size_t q_end = cap - rf[i];
+    for (; q + 3 < q_end; q += 4) {
+      F4 n0, n1, n2, n3;
+      const F4 dn = four_pairs(q, xi, n0, n1, n2, n3);
+      const F4 f0 = (kr[q].a * dn[0]) * n0;
+      yi -= f0;
+      yf[kr[q].j] += f0;
+      const F4 f1 = (kr[q + 1].a * dn[1]) * n1;
+      yi -= f1;
+      yf[kr[q + 1].j] += f1;
+      const F4 f2 = (kr[q + 2].a * dn[2]) * n2;
+      yi -= f2;
+      yf[kr[q + 2].j] += f2;
+      const F4 f3 = (kr[q + 3].a * dn[3]) * n3;
+      yi -= f3;
+      yf[kr[q + 3].j] += f3;
+    }
     for (; q + 1 < q_end; q += 2) {
       const PairKernel& e0 = kr[q];
       const PairKernel& e1 = kr[q + 1];
@@ -1694,10 +1818,9 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   // pass of the pressure, y += sum_k coef_k (grad C_k . x) grad C_k, in one scattered update.
   // (The forces' last lane carries coef * g: never read.)
   const double* pc = press_coef_.data();
-  for (std::size_t k = 0; k < span; ++k) s[k] = static_cast<float>(s[k] * pc[k]);
-  for (std::size_t w = 0; w < wall_particles_; ++w) {
-    const std::int32_t k = wall_particle_[w];
-    y[k] += static_cast<double>(s[k]) * wall_g_[w];
+  for (std::size_t k = 0; k < span; ++k) {
+    s[k] = static_cast<float>(s[k] * pc[k]);
+    if (k < walled && slot[k] >= 0) y[k] += static_cast<double>(s[k]) * wall_g_[slot[k]];
   }
   for (std::size_t i = 0; i < rows; ++i) {
     const float si = s[i];
@@ -1833,12 +1956,27 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     const WallHit& hit = walls_[w];
     s_[hit.particle] -= hit.grad.dot(hit.v_wall);
   }
-  const std::size_t near_end = frozen_moving_ ? near_ : near_awake_;
-  for (std::size_t p = 0; p < near_end; ++p) {
-    const std::int32_t i = pair_i_[p], j = pair_j_[p];
-    const double div = pair_g_[p] * pair_n_[p].dot(v[j] - v[i]);
-    s_[i] += div;
-    s_[j] += div;
+  // Row by row (the near pairs [0, near_awake_) or [0, near_) are rows [0, na) or [0, nh)),
+  // the first end's sum in a register: it is complete from the earlier rows when its own row
+  // starts, and no later row reaches it, so the additions are the same in the same order.
+  {
+    const std::size_t near_rows = frozen_moving_ ? nh_ : na_;
+    const std::int32_t* rn = row_near_.data();
+    const std::int32_t* pj = pair_j_.data();
+    const double* pg = pair_g_.data();
+    const Vec3* pn = pair_n_.data();
+    double* s = s_.data();
+    for (std::size_t i = 0; i < near_rows; ++i) {
+      const Vec3 vi = v[i];
+      double si = s[i];
+      for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
+        const std::int32_t j = pj[p];
+        const double div = pg[p] * pn[p].dot(v[j] - vi);
+        si += div;
+        s[j] += div;
+      }
+      s[i] = si;
+    }
   }
   for (std::size_t k = 0; k < nh_; ++k) {
     const std::int32_t i = lg_[k];
@@ -1924,6 +2062,7 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   const double wall_range = radius_ + 0.5 * h_;
   const double free_path = wall_range - contact_ - 0.01 * h_;
   std::size_t hit_cursor = 0;  // walls_ holds each particle's hits consecutively, by local index
+  const std::uint32_t static_bits = n_static >= 32 ? ~0u : ((1u << n_static) - 1u);
   for (std::size_t k = 0; k < na_; ++k) {
     const std::int32_t i = lg_[k];
     const std::uint32_t near_mask = near_colliders_[k];
@@ -1941,8 +2080,20 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
     // The statics' second round sees the same position, path and hits as their first when no
     // collider moved the particle in between: it would find nothing either (skipped).
     bool projected = false;
-    for (std::size_t pass = 0; pass < n_all + (moving.empty() ? 0 : n_static); ++pass) {
-      if (pass == n_all && !projected) break;
+    const std::size_t n_pass = n_all + (moving.empty() ? 0 : n_static);
+    // The first pass from `pass` on that can find anything: a static collider the particle was
+    // not near is skipped below while its path (the particle's own displacement, the same for
+    // every static) is free, so those passes are stepped over at once with the near mask.
+    auto next_pass = [&](std::size_t pass) -> std::size_t {
+      if (check_all || !(moved < free_path)) return pass;
+      const std::size_t base = pass < n_all ? 0 : n_all;
+      const std::size_t c_idx = pass - base;
+      if (c_idx >= n_static) return pass;
+      const std::uint32_t rest = near_mask & static_bits & (~0u << c_idx);
+      return rest ? base + static_cast<std::size_t>(__builtin_ctz(rest)) : base + n_static;
+    };
+    for (std::size_t pass = next_pass(0); pass < n_pass; pass = next_pass(pass + 1)) {
+      if (pass >= n_all && !projected) break;
       const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
       const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
@@ -2061,10 +2212,11 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
 // (seed Eq. 9-10). Only bonds of awake or fixed particles can have changed length.
 void Nucleus::break_bonds() {
   auto test = [&](std::int32_t b) {
-    if (!bond_alive_[b] || bond_break_[b] <= 0.0) return;
+    if (!bond_alive_[b]) return;
     const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
     // |r - L| > delta  <=>  r^2 > (L + delta)^2 or r^2 < (L - delta)^2 (the latter only
-    // when L > delta): no square root per bond.
+    // when L > delta): no square root per bond. An unbreakable bond (delta <= 0) has the
+    // bounds +inf and 0, which no r^2 passes, so it needs no test of its own.
     const double r2 = min_image(x_[j] - x_[i]).squaredNorm();
     if (r2 > bond_break_hi2_[b] || r2 < bond_break_lo2_[b]) {
       bond_alive_[b] = 0;

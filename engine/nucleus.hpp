@@ -149,8 +149,8 @@ class Nucleus {
   SiteSums site_sums(const Collider& c, std::int32_t kc, const Vec3& x, const Vec3& local,
                      double d) const;
   void collider_frames(std::span<const Collider> moving);
-  SiteSums cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i, const Vec3& x,
-                            double d);
+  const SiteSums& cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
+                                   const Vec3& x, double d);
   bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
   void build_wall_table();
   WallTableEntry wall_table_at(double d) const;
@@ -243,7 +243,15 @@ class Nucleus {
   // N: how many of row i's entries (its first ones) have an index above i; each part of the
   // row is ordered inside the density radius / inside R / beyond, at the grid build.
   std::vector<std::int32_t> row_upper_;
+  // N: where row i's upper part's "beyond" bucket (beyond R at the build) starts (== its
+  // upper count for an unordered row), and the pool's squared distances at the build (m^2,
+  // ordered rows only): an entry farther than R + disp_bound_ then cannot be within R now.
+  std::vector<std::int32_t> row_beyond_;
+  std::vector<float> row_r2_;
+  // The two largest displacements since the grid build, summed (update_grid), m.
+  double disp_bound_ = 0.0;
   std::vector<std::int32_t> row_scratch_j_, row_scratch_b_;  // one row, for ordering it
+  std::vector<float> row_scratch_r2_;
   std::vector<std::uint8_t> row_scratch_bucket_;
   std::size_t row_used_ = 0;
   std::vector<std::int32_t> partner_bond_; // N, scratch (-1)

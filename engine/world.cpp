@@ -158,9 +158,14 @@ void World::count_removed() {
   frame_.removed_protected = 0;
   if (!nucleus_) return;
   const auto mats = nucleus_->materials();
-  const auto n = nucleus_->particle_count();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!is_removed(i)) continue;
+  const auto x = nucleus_->positions();
+  const Vec3 lo = config_.removal.min_m, hi = config_.removal.max_m;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    // is_removed(i), with the positions and the region's bounds read once per step.
+    const Vec3& p = x[i];
+    if (!(p.x() < lo.x() || p.y() < lo.y() || p.z() < lo.z() || p.x() > hi.x() ||
+          p.y() > hi.y() || p.z() > hi.z()))
+      continue;
     const bool target = mats[i] < config_.nucleus.materials.size() &&
                         config_.nucleus.materials[mats[i]].counts_as_target;
     (target ? frame_.removed_target : frame_.removed_protected)++;
