@@ -340,8 +340,8 @@ TEST(ScenarioLoader, DefaultsApplyWhenKeysAreAbsent) {
 }
 
 TEST(ScenarioLoader, IntegralFloatsCountAsIntegers) {
-  const std::string with_cap = replace_once(box_module_text(), "\"tolerance\": 0.01",
-                                            "\"tolerance\": 0.01, \"max_iterations\": 40");
+  const std::string with_cap = replace_once(box_module_text(), "\"tolerance\": 0.05",
+                                            "\"tolerance\": 0.05, \"max_iterations\": 40");
   const std::string ok = replace_once(with_cap, "\"max_iterations\": 40", "\"max_iterations\": 40.0");
   const LoadResult r = load_scenario_text(ok, "m.json");
   ASSERT_TRUE(r.ok()) << to_string(r.errors);
