@@ -57,6 +57,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <cstring>
 
@@ -1641,6 +1642,10 @@ void Nucleus::assemble(double dt) {
 // perturbs A x by ~1e-7 relative, far below the solve tolerance. Mass, walls and loose bonds
 // stay double.
 void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
+  // A pair's first 16 bytes are loaded as one vector (direction, gradient).
+  static_assert(offsetof(PairKernel, nx) == 0 && offsetof(PairKernel, g) == 3 * sizeof(float) &&
+                    sizeof(PairKernel) >= sizeof(F4),
+                "PairKernel must start with nx, ny, nz, g");
   const std::size_t rows = full ? nh_ : na_;   // rows whose pairs are applied
   const std::size_t span = full ? nl_ : nh_;   // particles those pairs reach
   const std::size_t cap = pair_cap_;

@@ -35,6 +35,13 @@ struct StageClock {
   }
 };
 
+/// Whether p lies outside the box [lo, hi] along some axis: a particle there counts as removed
+/// (WorldConfig::removal).
+inline bool outside_region(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return p.x() < lo.x() || p.y() < lo.y() || p.z() < lo.z() || p.x() > hi.x() ||
+         p.y() > hi.y() || p.z() > hi.z();
+}
+
 }  // namespace
 
 const char* step_stage_name(StepStage stage) {
@@ -148,9 +155,7 @@ void World::drain_events(std::vector<Event>& out) {
 }
 
 bool World::is_removed(std::size_t i) const {
-  const Vec3& p = nucleus_->positions()[i];
-  const auto& r = config_.removal;
-  return (p.array() < r.min_m.array()).any() || (p.array() > r.max_m.array()).any();
+  return outside_region(nucleus_->positions()[i], config_.removal.min_m, config_.removal.max_m);
 }
 
 void World::count_removed() {
@@ -161,11 +166,7 @@ void World::count_removed() {
   const auto x = nucleus_->positions();
   const Vec3 lo = config_.removal.min_m, hi = config_.removal.max_m;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    // is_removed(i), with the positions and the region's bounds read once per step.
-    const Vec3& p = x[i];
-    if (!(p.x() < lo.x() || p.y() < lo.y() || p.z() < lo.z() || p.x() > hi.x() ||
-          p.y() > hi.y() || p.z() > hi.z()))
-      continue;
+    if (!outside_region(x[i], lo, hi)) continue;  // is_removed(i), the bounds read once
     const bool target = mats[i] < config_.nucleus.materials.size() &&
                         config_.nucleus.materials[mats[i]].counts_as_target;
     (target ? frame_.removed_target : frame_.removed_protected)++;
