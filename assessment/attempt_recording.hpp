@@ -4,8 +4,8 @@
 
 #include <vector>
 
-#include "engine/frame.hpp"
-#include "engine/world.hpp"
+#include "engine/core/frame.hpp"
+#include "engine/world/world.hpp"
 
 namespace acdr {
 

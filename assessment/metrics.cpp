@@ -57,7 +57,7 @@ void add_zone_metrics(const AttemptRecording& record, Metrics& m) {
         near_one = true;
       }
       if (z.inside) t.inside += s.dt_s;
-      // Rising edges, as the engine emits its zone events (engine/world.cpp).
+      // Rising edges, as the engine emits its zone events (engine/world/world.cpp).
       const bool over = z.warning && force > s.zones[k].force_limit_N;
       if (z.inside && !was_inside[k]) ++t.entries;
       if (z.warning && !was_warning[k]) ++t.warnings;

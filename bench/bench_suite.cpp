@@ -10,9 +10,9 @@
 #include <sstream>
 
 #include "bench/trace_error.hpp"
-#include "engine/instrument.hpp"
-#include "engine/nucleus.hpp"
-#include "engine/rigid_world.hpp"
+#include "engine/rigid/instrument.hpp"
+#include "engine/nucleus/nucleus.hpp"
+#include "engine/rigid/rigid_world.hpp"
 #include "scenarios/scenario_loader.hpp"
 
 namespace acdr {
@@ -70,7 +70,7 @@ RunTrace run_nucleus_only(const WorldConfig& config, const Pose& start,
                           const std::vector<Collider>& extra) {
   using Clock = std::chrono::steady_clock;
   RunTrace out;
-  std::vector<Collider> statics = build_static_colliders(config);
+  std::vector<Collider> statics = build_static_colliders(config.ground, config.box);
   statics.insert(statics.end(), extra.begin(), extra.end());
   Nucleus nucleus(config.nucleus, config.solver, config.gravity_m_s2, statics);
   const InstrumentGeometry geometry(config.instrument);

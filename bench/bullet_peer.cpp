@@ -11,10 +11,10 @@
 #include <cmath>
 #include <memory>
 
-#include "engine/anatomy.hpp"
-#include "engine/instrument.hpp"
-#include "engine/nucleus.hpp"
-#include "engine/rigid_world.hpp"
+#include "engine/anatomy/anatomy.hpp"
+#include "engine/rigid/instrument.hpp"
+#include "engine/nucleus/nucleus.hpp"
+#include "engine/rigid/rigid_world.hpp"
 
 namespace acdr {
 namespace {
@@ -55,7 +55,7 @@ btCollisionShape* make_shape(const Collider& c) {
 }
 
 /// Static triangle-mesh shape of one vertebra, in millimetres (the peer's world unit, where
-/// Bullet's 0.002-unit BVH box floor is 2 um; engine/rigid_world.cpp does the same for the
+/// Bullet's 0.002-unit BVH box floor is 2 um; engine/rigid/rigid_world.cpp does the same for the
 /// instrument). `vertices` and `indices` must outlive the shape.
 struct BoneMesh {
   std::vector<btScalar> vertices;
@@ -93,7 +93,7 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
 
   // The same lattice and bonds as our nucleus: build one and read them back. With anatomy the
   // lattice is filled around the bone's distance grid, as in the World.
-  std::vector<Collider> statics = build_static_colliders(config);
+  std::vector<Collider> statics = build_static_colliders(config.ground, config.box);
   std::unique_ptr<Anatomy> anatomy;
   if (config.anatomy.enabled) {
     anatomy = std::make_unique<Anatomy>(config.anatomy);

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/trajectory.hpp"
-#include "engine/world.hpp"
-#include "engine/world_config.hpp"
+#include "engine/devices/trajectory.hpp"
+#include "engine/world/world.hpp"
+#include "engine/world/world_config.hpp"
 
 namespace acdr {
 

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/types.hpp"
+#include "engine/core/types.hpp"
 #include "scenarios/json_position_index.hpp"
 #include "scenarios/key_registry.hpp"
 #include "scenarios/scenario_error.hpp"

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "assessment/rubric.hpp"
-#include "engine/world_config.hpp"
+#include "engine/world/world_config.hpp"
 
 namespace acdr {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/verification/verification_case.hpp"
+#include "verification/verification_case.hpp"
 #include "scenarios/scenario_error.hpp"
 
 namespace acdr {

@@ -7,8 +7,8 @@
 
 #include "assessment/metrics.hpp"
 #include "assessment/scoring.hpp"
-#include "engine/trajectory.hpp"
-#include "engine/udp_device.hpp"
+#include "engine/devices/trajectory.hpp"
+#include "engine/devices/udp_device.hpp"
 
 namespace acdr {
 

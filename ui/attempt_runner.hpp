@@ -9,8 +9,8 @@
 
 #include "assessment/attempt_recording.hpp"
 #include "assessment/attempt_result.hpp"
-#include "engine/input_device.hpp"
-#include "engine/world.hpp"
+#include "engine/devices/input_device.hpp"
+#include "engine/world/world.hpp"
 #include "scenarios/scenario_model.hpp"
 
 namespace acdr {
@@ -92,7 +92,7 @@ AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice&
                        CheckpointSink checkpoint_sink);
 
 /// Opens an input source from its command-line spelling: "replay:FILE.csv", or
-/// "udp:PORT" for a haptic bridge on loopback (engine/udp_device.hpp). ("mouse" needs a window
+/// "udp:PORT" for a haptic bridge on loopback (engine/devices/udp_device.hpp). ("mouse" needs a window
 /// and is opened by the trainee view.) Returns null with `error` set when the spelling or the
 /// file is wrong or the port cannot be bound.
 std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error);

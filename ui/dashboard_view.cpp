@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/instrument.hpp"
-#include "engine/rigid_world.hpp"
+#include "engine/rigid/instrument.hpp"
+#include "engine/rigid/rigid_world.hpp"
 #include "ui/imgui_style.hpp"
 #include "ui/plot_widgets.hpp"
 
@@ -432,7 +432,7 @@ void draw_replay(const AttemptDrillDown& d, const ScenarioModel* scenario,
   // Geometry: static box walls and the instrument at this frame (when the scenario loads).
   std::vector<Collider> statics, instrument;
   if (scenario) {
-    statics = build_static_colliders(scenario->world);
+    statics = build_static_colliders(scenario->world.ground, scenario->world.box);
     if (scenario->world.instrument.enabled) {
       InstrumentGeometry geometry(scenario->world.instrument);
       instrument.reserve(geometry.local_colliders().size());

@@ -1,6 +1,6 @@
 // An attempt stepped live at the scenario's rate, paced by the clock, while other threads
 // watch it. With a live device (a UDP bridge, the mouse) two threads run: the device loop at
-// 1 kHz (poses in, forces out through engine/haptic_local_model.hpp) and the physics loop at
+// 1 kHz (poses in, forces out through engine/devices/haptic_local_model.hpp) and the physics loop at
 // the scenario's rate, which falls behind real time honestly (reported) when a step costs
 // more than its period, without slowing the device loop. A replay steps on one thread (the
 // device is the recording). Watchers: the trainee view draws the newest
@@ -17,9 +17,9 @@
 #include <memory>
 #include <vector>
 
-#include "engine/haptic_local_model.hpp"
-#include "engine/haptic_loop.hpp"
-#include "engine/latest_value.hpp"
+#include "engine/devices/haptic_local_model.hpp"
+#include "engine/devices/haptic_loop.hpp"
+#include "engine/core/latest_value.hpp"
 #include "ui/attempt_runner.hpp"
 #include "ui/live_attempt_checkpoints.hpp"
 #include "ui/scene_snapshot.hpp"

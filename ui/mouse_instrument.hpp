@@ -14,7 +14,7 @@
 
 #include <mutex>
 
-#include "engine/input_device.hpp"
+#include "engine/devices/input_device.hpp"
 #include "ui/render_scene.hpp"
 
 namespace acdr {

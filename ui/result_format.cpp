@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "assessment/metric_catalog.hpp"
-#include "engine/state_hash.hpp"
+#include "engine/core/state_hash.hpp"
 
 namespace acdr {
 

@@ -5,9 +5,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "engine/haptic_loop.hpp"
-#include "engine/udp_device.hpp"
-#include "engine/world.hpp"
+#include "engine/devices/haptic_loop.hpp"
+#include "engine/devices/udp_device.hpp"
+#include "engine/world/world.hpp"
 #include "scenarios/scenario_model.hpp"
 #include "ui/attempt_runner.hpp"
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "engine/world.hpp"
+#include "engine/world/world.hpp"
 #include "ui/render_scene.hpp"
 
 namespace acdr {

@@ -12,7 +12,7 @@
 
 #include <imgui.h>
 
-#include "engine/haptic_loop.hpp"
+#include "engine/devices/haptic_loop.hpp"
 #include "scenarios/scenario_model.hpp"
 #include "ui/attempt_runner.hpp"
 #include "ui/live_attempt.hpp"

@@ -9,9 +9,9 @@
 #include <functional>
 #include <string>
 
-#include "engine/haptic_loop.hpp"
-#include "engine/input_device.hpp"
-#include "engine/world.hpp"
+#include "engine/devices/haptic_loop.hpp"
+#include "engine/devices/input_device.hpp"
+#include "engine/world/world.hpp"
 #include "scenarios/scenario_model.hpp"
 #include "ui/attempt_runner.hpp"
 #include "ui/live_attempt_checkpoints.hpp"

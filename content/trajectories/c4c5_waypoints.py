@@ -9,7 +9,7 @@ turns rows of
 
 (segment frame, docs/anatomy.md: x left, y cranial, z anterior = up) into the waypoint CSV of
 `acdr make-trajectory` (docs/trajectory-format.md): grip = cup - R(roll, pitch, yaw) (0, 0, -L),
-R applied yaw, then pitch, then roll, as engine/waypoint_path.cpp does. Where the orientation
+R applied yaw, then pitch, then roll, as engine/devices/waypoint_path.cpp does. Where the orientation
 changes between two rows, intermediate waypoints every 10 degrees keep the cup where the rows
 put it (the grip is interpolated linearly, so one long rotation would swing the cup through the
 anatomy). Lines starting with '#' are copied as comments.
@@ -74,6 +74,6 @@ if __name__ == "__main__":
     ap.add_argument("--wall", type=float, default=0.4, help="cup_wall_mm (default 0.4)")
     ap.add_argument("--shaft", type=float, default=80.0, help="shaft_length_mm (default 80)")
     args = ap.parse_args()
-    # engine/instrument.cpp: the cup centre lies shaft + cup/2 + wall below the grip.
+    # engine/rigid/instrument.cpp: the cup centre lies shaft + cup/2 + wall below the grip.
     L_MM = args.shaft + 0.5 * args.cup + args.wall
     main(args.rows)

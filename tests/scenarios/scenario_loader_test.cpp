@@ -11,8 +11,8 @@
 #include <fstream>
 #include <set>
 
-#include "engine/nucleus.hpp"
-#include "engine/vertebra_generator.hpp"
+#include "engine/nucleus/nucleus.hpp"
+#include "engine/anatomy/vertebra_generator.hpp"
 #include "scenarios/content_hash.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"
 

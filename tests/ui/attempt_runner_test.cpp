@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/box_world.hpp"
-#include "engine/trajectory.hpp"
+#include "engine/world/box_world.hpp"
+#include "engine/devices/trajectory.hpp"
 
 namespace acdr {
 namespace {

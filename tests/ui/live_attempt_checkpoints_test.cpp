@@ -13,7 +13,7 @@
 #include <mutex>
 #include <thread>
 
-#include "engine/trajectory.hpp"
+#include "engine/devices/trajectory.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "tests/ui/test_record.hpp"
 #include "ui/live_attempt.hpp"

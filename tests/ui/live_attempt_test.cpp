@@ -8,7 +8,7 @@
 #include <chrono>
 #include <thread>
 
-#include "engine/trajectory.hpp"
+#include "engine/devices/trajectory.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "tests/ui/test_record.hpp"
 

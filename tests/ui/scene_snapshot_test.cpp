@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "engine/box_world.hpp"
+#include "engine/world/box_world.hpp"
 #include "ui/offscreen_render.hpp"
 
 namespace acdr {

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
-#include "engine/trajectory.hpp"
+#include "engine/devices/trajectory.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "tests/db/db_test_support.hpp"
 #include "tests/ui/image_probe.hpp"

@@ -1,12 +1,12 @@
 // `acdr device-sim --port P --trajectory FILE`: a virtual haptic device on the UDP bridge
-// protocol (engine/virtual_bridge.hpp), for testing bridges, the haptic loop and the safety
+// protocol (engine/devices/virtual_bridge.hpp), for testing bridges, the haptic loop and the safety
 // rules without hardware.
 #pragma once
 
 #include <iosfwd>
 #include <string>
 
-#include "engine/virtual_bridge.hpp"
+#include "engine/devices/virtual_bridge.hpp"
 
 namespace acdr {
 

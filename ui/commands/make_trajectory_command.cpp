@@ -4,7 +4,7 @@
 #include <ostream>
 #include <sstream>
 
-#include "engine/waypoint_path.hpp"
+#include "engine/devices/waypoint_path.hpp"
 
 namespace acdr {
 

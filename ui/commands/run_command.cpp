@@ -14,7 +14,7 @@
 #include "db/catalog.hpp"
 #include "db/checkpoint_writer.hpp"
 #include "db/progression.hpp"
-#include "engine/udp_device.hpp"
+#include "engine/devices/udp_device.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "ui/attempt_runner.hpp"
 #include "ui/live_attempt.hpp"

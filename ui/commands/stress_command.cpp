@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/stress/stress_case.hpp"
+#include "stress/stress_case.hpp"
 
 namespace acdr {
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/verification/verification_case.hpp"
+#include "verification/verification_case.hpp"
 #include "scenarios/verification_case_file.hpp"
 
 namespace acdr {

@@ -1,5 +1,5 @@
 // Tests of ui/commands/run_command.cpp driven through the UDP haptic bridge on loopback by the
-// virtual device (engine/virtual_bridge.hpp), as `acdr run --input udp:PORT` with `acdr
+// virtual device (engine/devices/virtual_bridge.hpp), as `acdr run --input udp:PORT` with `acdr
 // device-sim`: the attempt completes and reports its haptics, its row exists before the first
 // packet, device faults are recorded, and a silent or absent device ends the attempt.
 //
@@ -17,8 +17,8 @@
 #include <thread>
 
 #include "db/attempt_store.hpp"
-#include "engine/udp_socket.hpp"
-#include "engine/virtual_bridge.hpp"
+#include "engine/devices/udp_socket.hpp"
+#include "engine/devices/virtual_bridge.hpp"
 #include "tests/db/db_test_support.hpp"
 
 namespace acdr {

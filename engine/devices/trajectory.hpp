@@ -1,0 +1,55 @@
+// A recorded device trajectory: grip poses over time, read from and written to CSV, and
+// played back as an input device.
+//
+// CSV format (docs/trajectory-format.md): '#' comment lines, then a header line
+//   t_s,x_m,y_m,z_m,qw,qx,qy,qz
+// then one sample per line, times strictly increasing, quaternions normalised on load.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/devices/input_device.hpp"
+#include "engine/core/types.hpp"
+
+namespace acdr {
+
+struct TrajectorySample {
+  double t_s = 0.0;
+  Pose pose;
+};
+
+class Trajectory {
+ public:
+  Trajectory() = default;
+  explicit Trajectory(std::vector<TrajectorySample> samples);
+
+  /// Loads a CSV trajectory. On failure returns nullopt and sets `error` to
+  /// "file:line: what is wrong (got X, expected Y)".
+  static std::optional<Trajectory> load_csv(const std::string& path, std::string* error);
+  /// Parses CSV text; `name` is used in error messages.
+  static std::optional<Trajectory> parse_csv(const std::string& text, const std::string& name,
+                                             std::string* error);
+  bool save_csv(const std::string& path, std::string* error) const;
+
+  /// Pose at time t: linear in position, spherical-linear in orientation, held at the ends.
+  Pose at(double t_s) const;
+  double duration_s() const { return samples_.empty() ? 0.0 : samples_.back().t_s; }
+  const std::vector<TrajectorySample>& samples() const { return samples_; }
+
+ private:
+  std::vector<TrajectorySample> samples_;
+};
+
+/// Plays a trajectory as a device; reports `end` once the last sample's time has passed.
+class TrajectoryReplay final : public InputDevice {
+ public:
+  explicit TrajectoryReplay(Trajectory trajectory) : trajectory_(std::move(trajectory)) {}
+  bool sample(double t_s, DeviceSample& out) override;
+
+ private:
+  Trajectory trajectory_;
+};
+
+}  // namespace acdr

@@ -1,0 +1,88 @@
+// What a scene says about its particle material: the materials, the lattice blocks they fill,
+// and the solver settings of the implicit step (plain data, SI units).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/core/types.hpp"
+
+namespace acdr {
+
+/// One particle material (nucleus pulposus, annulus). Defaults: the seed's shortening-like
+/// nucleus (seed Sec. IV.A: viscosity >= 250 Pa·s) at water-like density (REFERENCES.md).
+struct MaterialConfig {
+  std::string name = "nucleus";
+  double density_kg_m3 = 1050.0;    ///< gel density, 1000-1100 usual (REFERENCES.md)
+  double viscosity_Pa_s = 250.0;    ///< Newtonian shear viscosity mu (seed Eq. 2-3)
+  double bond_stiffness_N_m = 5.0;  ///< spring stiffness k between bonded particles (Eq. 9)
+  double bond_break_m = 0.3e-3;     ///< break stretch delta_max; a bond breaks at k*delta_max (Eq. 10)
+  bool counts_as_target = true;     ///< removing it is the goal (nucleus) or a penalty (annulus)
+  /// Bulk modulus of the particle pressure (density constraint), Pa: a penalty that keeps the
+  /// water-rich gel nearly incompressible (hydrostatic compression of a 1 cm layer ~0.2 %).
+  /// Not published for NP; 50 kPa is of the order of its measured moduli (5-60 kPa,
+  /// REFERENCES.md) and keeps the buoyancy case within a few percent (docs/verification.md).
+  double bulk_modulus_Pa = 5.0e4;
+};
+
+/// Shapes of particle regions other than a box, for the disc space.
+enum class BlockShape : std::uint8_t {
+  kBox,               ///< the whole box [min, max]
+  kEllipticCylinder,  ///< points of the box inside an elliptic cylinder along `axis`, less an
+                      ///< optional elliptic hole: a nucleus (no hole) or an annulus ring
+};
+
+/// A region filled with particles on a cubic lattice anchored at `min_m`: the box [min, max],
+/// or (anatomy) the part of it inside an elliptic cylinder or ring. Blocks whose `min_m` differ
+/// by whole multiples of the spacing share their lattice, so a nucleus, the annulus ring around
+/// it and the cartilage endplate layers above and below it meet without a seam.
+struct ParticleBlockConfig {
+  Vec3 min_m = Vec3::Zero();
+  Vec3 max_m = Vec3::Zero();
+  int material = 0;  ///< index into NucleusConfig::materials
+  BlockShape shape = BlockShape::kBox;
+  int axis = 1;                          ///< kEllipticCylinder: 0 x, 1 y, 2 z (the spine: y)
+  Vec3 center_m = Vec3::Zero();          ///< ellipse centre (its `axis` coordinate is ignored)
+  /// Outer semi-axes along the two other axes, in increasing axis order (for axis y: x then z).
+  double semi_a_m = 0.0, semi_b_m = 0.0;
+  /// Hole semi-axes (0: none). A ring: the annulus around a nucleus of these semi-axes.
+  double hole_a_m = 0.0, hole_b_m = 0.0;
+  /// Optional box left empty, e.g. the anterior window cut into the annulus for the approach.
+  bool has_cutout = false;
+  Vec3 cutout_min_m = Vec3::Zero(), cutout_max_m = Vec3::Zero();
+
+  /// Whether point p belongs to the region (inside the box, the shape, not the hole or cutout).
+  bool contains(const Vec3& p) const;
+};
+
+struct NucleusConfig {
+  bool enabled = false;
+  double spacing_m = 1.0e-3;            ///< lattice spacing h of the particles
+  double bond_radius_factor = 1.5;      ///< particles closer than factor*h at start are bonded
+  std::vector<MaterialConfig> materials;
+  std::vector<ParticleBlockConfig> blocks;
+};
+
+struct SolverConfig {
+  double dt_s = 1.0e-3;          ///< fixed step (1 kHz haptic rate)
+  int max_iterations = 60;       ///< linear solver iterations per substep
+  double tolerance = 1.0e-4;     ///< relative residual of the linear solve
+  bool sleep_enabled = true;     ///< particles at rest far from the instrument are not integrated
+  double sleep_speed_m_s = 1.0e-4;
+  double sleep_distance_m = 6.0e-3;
+  /// Particle-collider contacts are looked for only where the collider's bounding box comes
+  /// within reach of the particle (exact: a box farther away cannot hold a surface nearer).
+  /// Off only to measure what the skip saves (acdr bench).
+  bool contact_culling = true;
+  /// The wall sums a particle gets from a collider's lattice sites (density, second moment,
+  /// no-slip tensor; dozens of distance queries) are kept while the particle's place relative
+  /// to the collider stays within `wall_sum_cache_tolerance` x spacing (and the collider
+  /// turns less than that over the interaction radius): resting material by the box walls or
+  /// bone, and material carried on the instrument, skip the queries for a sub-percent lag in
+  /// those sums. Off to measure the skip (acdr bench).
+  bool wall_sum_cache = true;
+  double wall_sum_cache_tolerance = 0.005;
+};
+
+}  // namespace acdr

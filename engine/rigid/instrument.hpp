@@ -1,0 +1,40 @@
+// The hand instrument's geometry and mass properties, derived once from its configuration.
+// Body frame: origin at the grip G, shaft along local -z to the working tip T = (0,0,-L).
+#pragma once
+
+#include <vector>
+
+#include "engine/geometry/collider.hpp"
+#include "engine/rigid/instrument_config.hpp"
+
+namespace acdr {
+
+class InstrumentGeometry {
+ public:
+  explicit InstrumentGeometry(const InstrumentConfig& config);
+
+  const InstrumentConfig& config() const { return config_; }
+  /// Colliders in the body frame (pose relative to the grip), body index 0.
+  const std::vector<Collider>& local_colliders() const { return local_colliders_; }
+  /// Centre of mass in the body frame (m).
+  const Vec3& center_of_mass() const { return com_; }
+  /// Principal inertia about the centre of mass, body axes (kg·m^2).
+  const Vec3& principal_inertia() const { return inertia_; }
+  /// The working point (centre of the blade or cup) in the body frame.
+  const Vec3& working_point() const { return working_point_; }
+  double yield_moment_Nm() const { return config_.yield_moment_Nm(); }
+  double warning_moment_Nm() const { return config_.warning_fraction * yield_moment_Nm(); }
+
+  /// Colliders placed at a grip pose with the body's velocities (about the grip origin).
+  void world_colliders(const Pose& grip, const Vec3& v_grip, const Vec3& omega,
+                       std::vector<Collider>& out) const;
+
+ private:
+  InstrumentConfig config_;
+  std::vector<Collider> local_colliders_;
+  Vec3 com_ = Vec3::Zero();
+  Vec3 inertia_ = Vec3::Zero();
+  Vec3 working_point_ = Vec3::Zero();
+};
+
+}  // namespace acdr

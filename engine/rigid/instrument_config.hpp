@@ -1,0 +1,47 @@
+// What a scene says about the hand instrument and the virtual coupling that drives it from the
+// device pose (plain data, SI units).
+#pragma once
+
+#include <numbers>
+
+#include "engine/core/types.hpp"
+
+namespace acdr {
+
+enum class InstrumentShape { kPrism, kCupCurette };
+
+/// The hand instrument. Its body frame has its origin at the grip point G (where the device
+/// holds it); the shaft runs from G along local -z to the working tip T = (0, 0, -shaft_length).
+struct InstrumentConfig {
+  bool enabled = false;
+  InstrumentShape shape = InstrumentShape::kPrism;
+  double mass_kg = 0.03;
+  double shaft_length_m = 0.08;     ///< grip to working tip
+  double shaft_diameter_m = 2.0e-3; ///< round shaft; sets the yield moment
+  double yield_stress_Pa = 500e6;   ///< surgical stainless steel, scenario-editable
+  double warning_fraction = 0.5;    ///< moment above this fraction of yield is an overload warning
+  /// Prism blade (seed Fig. 4-6): length along local x, width along y, height along z; its
+  /// lower face is at the tip.
+  Vec3 blade_size_m = Vec3(8.0e-3, 4.0e-3, 10.0e-3);
+  double cup_diameter_m = 4.0e-3;   ///< cup curette: inner diameter of the cup
+  double cup_depth_m = 2.0e-3;      ///< cup curette: depth of the cup
+  double cup_wall_m = 0.4e-3;       ///< cup curette: wall thickness
+  /// Cup curette: angle between the shaft's direction toward the tip and the cup's opening,
+  /// rad. pi/2 opens sideways (a straight curette); larger angles turn the opening back toward
+  /// the handle, as on an angled (reverse) curette, so a pull stroke loads the cup's floor.
+  double cup_opening_angle_rad = 0.5 * std::numbers::pi;
+
+  /// Bending moment at which the shaft yields: M_yield = sigma_y * pi * d^3 / 32.
+  double yield_moment_Nm() const;
+};
+
+/// Virtual coupling between the device pose and the instrument (Colgate 1995; Adams &
+/// Hannaford 1999). Critical damping is kd = 2*sqrt(m*ks).
+struct CouplingConfig {
+  double stiffness_N_m = 500.0;       ///< below the Phantom Omni's 700 N/m (REFERENCES.md)
+  double damping_Ns_m = -1.0;         ///< < 0: critically damped from mass and stiffness
+  double rot_stiffness_Nm_rad = 0.5;
+  double rot_damping_Nms_rad = -1.0;  ///< < 0: critically damped from inertia
+};
+
+}  // namespace acdr

@@ -1,0 +1,61 @@
+// The rigid world in Bullet: ground plane, the open box's five static walls, and the
+// instrument as a dynamic body. Bullet resolves instrument-wall (later instrument-bone)
+// contact; the contact force on the instrument is measured from the solver's impulses.
+#pragma once
+
+#include <memory>
+
+#include "engine/geometry/collider.hpp"
+#include "engine/geometry/triangle_mesh.hpp"
+#include "engine/rigid/instrument.hpp"
+#include "engine/rigid/instrument_config.hpp"
+
+namespace acdr {
+
+/// Contact of the instrument with static geometry in the last step.
+struct RigidContact {
+  Vec3 force_N = Vec3::Zero();           ///< total contact force on the instrument
+  Vec3 torque_about_grip_Nm = Vec3::Zero();
+  double peak_point_force_N = 0.0;       ///< largest single contact point force
+  int points = 0;
+};
+
+class RigidWorld {
+ public:
+  /// Builds only the declared parts. `static_colliders` are the same solids the particles see.
+  /// `instrument_start` is the grip pose the instrument starts at (at rest).
+  RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
+             const InstrumentGeometry* instrument, const std::vector<Collider>& static_colliders);
+  ~RigidWorld();
+  RigidWorld(const RigidWorld&) = delete;
+  RigidWorld& operator=(const RigidWorld&) = delete;
+
+  bool has_instrument() const;
+  /// Grip pose and velocities (of the grip point) of the instrument.
+  Pose instrument_grip() const;
+  Vec3 instrument_grip_velocity() const;
+  Vec3 instrument_angular_velocity() const;
+  /// Velocity of the centre of mass.
+  Vec3 instrument_com_velocity() const;
+  Vec3 instrument_com_world() const;
+  /// World inertia tensor about the centre of mass.
+  Eigen::Matrix3d instrument_world_inertia() const;
+
+  /// Applies a force and torque (about the centre of mass) for the next step and advances the
+  /// world by dt; returns the contact the instrument made.
+  RigidContact step(double dt, const Vec3& force_N, const Vec3& torque_Nm);
+
+  /// Places the instrument (grip pose) at rest, e.g. at the start.
+  void place_instrument(const Pose& grip);
+
+  /// Adds a static closed triangle mesh (bone, world frame) as a Bullet BVH triangle mesh with
+  /// a 0.1 mm margin (built in millimetres, see rigid_world.cpp). The mesh is copied.
+  /// (anatomy, issue 4)
+  void add_static_mesh(const TriangleMesh& mesh);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace acdr

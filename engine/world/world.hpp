@@ -1,0 +1,124 @@
+// The simulated scene: built from a WorldConfig with only the parts it declares, stepped at a
+// fixed rate by device samples, emitting a Frame per step and Events when they happen.
+//
+// Step stages (each timed): input -> nucleus -> instrument -> feedback -> record.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "engine/anatomy/anatomy.hpp"
+#include "engine/geometry/collider.hpp"
+#include "engine/devices/device_guard.hpp"
+#include "engine/core/frame.hpp"
+#include "engine/devices/input_device.hpp"
+#include "engine/rigid/instrument.hpp"
+#include "engine/nucleus/nucleus.hpp"
+#include "engine/rigid/rigid_world.hpp"
+#include "engine/world/world_config.hpp"
+
+namespace acdr {
+
+enum class StepStage : int { kInput = 0, kNucleus, kInstrument, kFeedback, kRecord, kCount };
+const char* step_stage_name(StepStage stage);
+
+/// Accumulated wall time per stage (s) and the number of steps measured.
+struct StageTimes {
+  std::array<double, static_cast<int>(StepStage::kCount)> seconds{};
+  std::int64_t steps = 0;
+};
+
+/// Figures the assessment needs to interpret frames (stored with every recording).
+struct WorldSummary {
+  double dt_s = 0.0;
+  double particle_volume_m3 = 0.0;
+  std::int32_t initial_target = 0;     ///< particles of target material at start
+  std::int32_t initial_protected = 0;  ///< particles of other materials at start
+  double yield_moment_Nm = 0.0;
+  double warning_moment_Nm = 0.0;
+  double device_max_force_N = 0.0;
+  // --- anatomy (issue 4): the danger zones, in the order of Frame::zones ---
+  struct Zone {
+    std::string name;
+    double warning_distance_m = 0.0;
+    double force_limit_N = 0.0;
+    bool never_event = false;
+  };
+  std::vector<Zone> zones;
+  // --- end anatomy ---
+};
+
+class World {
+ public:
+  explicit World(const WorldConfig& config);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Advances one fixed step following the device sample; returns the frame it produced.
+  const Frame& step(const DeviceSample& sample);
+
+  double time_s() const { return t_; }
+  std::int64_t step_count() const { return steps_; }
+  /// True once numerical trouble was detected (a kNumerical event was emitted).
+  bool failed() const { return failed_; }
+
+  /// Moves the events emitted since the last call to `out` (appends).
+  void drain_events(std::vector<Event>& out);
+
+  const WorldConfig& config() const { return config_; }
+  const WorldSummary& summary() const { return summary_; }
+  const Frame& last_frame() const { return frame_; }
+  const StageTimes& stage_times() const { return times_; }
+  const Nucleus* nucleus() const { return nucleus_.get(); }
+  /// The anatomical scene (vertebrae, grids, zones), or null without anatomy (issue 4).
+  const Anatomy* anatomy() const { return anatomy_.get(); }
+  const InstrumentGeometry* instrument() const { return instrument_ ? &*instrument_ : nullptr; }
+  const std::vector<Collider>& static_colliders() const { return static_colliders_; }
+  /// Instrument colliders at the current pose (empty without an instrument).
+  const std::vector<Collider>& instrument_colliders() const { return moving_; }
+  /// Particle i has left the removal region.
+  bool is_removed(std::size_t i) const;
+  /// FNV-1a over the nucleus and instrument state, for determinism checks.
+  std::uint64_t state_hash() const;
+
+ private:
+  void emit(EventKind kind, double value, const char* detail);
+  void count_removed();
+  void evaluate_zones_and_emit(const Vec3& tissue_force_N);  // anatomy (issue 4)
+
+  WorldConfig config_;
+  WorldSummary summary_;
+  // Declared before the rigid world and the nucleus: their colliders point into its grids.
+  std::unique_ptr<Anatomy> anatomy_;
+  std::optional<InstrumentGeometry> instrument_;
+  std::vector<Collider> static_colliders_;
+  std::unique_ptr<RigidWorld> rigid_;
+  std::unique_ptr<Nucleus> nucleus_;
+  DeviceGuard guard_;
+
+  std::vector<Collider> moving_;        // instrument colliders, world frame (capacity fixed)
+  std::vector<BodyReaction> reactions_; // one per moving body
+  std::vector<Event> events_;           // pending, capacity reserved
+  Frame frame_;
+  StageTimes times_;
+  double t_ = 0.0;
+  std::int64_t steps_ = 0;
+  bool failed_ = false;
+  bool input_rejecting_ = false;
+  bool input_lost_ = false;
+  bool warning_active_ = false;
+  bool yield_active_ = false;
+  bool clamp_active_ = false;
+  // Per-zone state of the last step, for edge-triggered zone events (anatomy, issue 4).
+  std::array<ZoneSample, kMaxZones> zone_samples_{};
+  std::array<std::uint8_t, kMaxZones> zone_warn_active_{};
+  std::array<std::uint8_t, kMaxZones> zone_inside_active_{};
+  std::array<std::uint8_t, kMaxZones> zone_force_active_{};
+  Quat last_target_orientation_ = Quat::Identity();
+};
+
+}  // namespace acdr

@@ -1,0 +1,172 @@
+// The anatomical scene: built from procedural or loaded meshes, cached, with its bone collider
+// and zones; a World built with it steps with bone contact and per-zone samples.
+#include "engine/anatomy/anatomy.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "engine/geometry/mesh_io.hpp"
+#include "engine/world/world.hpp"
+
+namespace acdr {
+namespace {
+
+constexpr double kMm = 1e-3;
+
+/// A coarse anatomy that builds in well under a second.
+AnatomyConfig coarse(const std::string& cache_dir) {
+  AnatomyConfig a;
+  a.enabled = true;
+  a.segment.mesh_spacing_m = 0.9e-3;
+  a.sdf.spacing_m = 0.5e-3;
+  a.zone_sdf_spacing_m = 0.8e-3;
+  a.cache_dir = cache_dir;
+  return a;
+}
+
+class AnatomyTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // One directory per test and process: ctest -j runs these tests at the same time, and one
+    // test's TearDown removing a shared directory broke the other's files.
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = (std::filesystem::temp_directory_path() /
+            ("acdr_anatomy_test_" + std::string(info->name()) + "_" + std::to_string(::getpid())))
+               .string();
+    std::filesystem::remove_all(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string dir_;
+};
+
+TEST_F(AnatomyTest, BuildsOnceThenLoadsFromTheCache) {
+  const Anatomy first(coarse(dir_));
+  EXPECT_FALSE(first.report().meshes_from_cache);
+  EXPECT_FALSE(first.report().sdf_from_cache);
+  EXPECT_EQ(first.zones().size(), 7u);
+  const Anatomy second(coarse(dir_));
+  EXPECT_TRUE(second.report().meshes_from_cache);
+  EXPECT_TRUE(second.report().sdf_from_cache) << second.report().notes;
+  EXPECT_EQ(first.vertebra(VertebraLevel::kC4).content_hash(), second.vertebra(VertebraLevel::kC4).content_hash());
+  // The bone collider: the disc space is free, the endplates are where the landmarks say.
+  const Collider bone = second.bone_collider();
+  EXPECT_EQ(bone.kind, ColliderKind::kSdfGrid);
+  Vec3 n;
+  const double d = signed_distance(bone, Vec3(0, 1.0 * kMm, 0), &n);
+  EXPECT_NEAR(d, second.landmarks().c4_lower_endplate_y_m - 1.0 * kMm, 0.05 * kMm);
+  EXPECT_LT(n.y(), -0.95);  // out of the C4 endplate, down into the disc space
+  EXPECT_LT(signed_distance(bone, Vec3(0, 5 * kMm, 0), nullptr), 0.0);
+}
+
+TEST_F(AnatomyTest, LoadedMeshesGiveTheSameSceneFromObjAndStl) {
+  // Export the generated vertebrae, once as OBJ and once as binary STL, in millimetres.
+  const Anatomy generated(coarse(dir_));
+  std::string error;
+  const std::string c4_obj = dir_ + "/c4.obj", c5_obj = dir_ + "/c5.obj";
+  const std::string c4_stl = dir_ + "/c4.stl", c5_stl = dir_ + "/c5.stl";
+  ASSERT_TRUE(save_mesh_file(generated.vertebra(VertebraLevel::kC4), c4_obj, MeshFormat::kObj, LengthUnit::kMillimetre, &error)) << error;
+  ASSERT_TRUE(save_mesh_file(generated.vertebra(VertebraLevel::kC5), c5_obj, MeshFormat::kObj, LengthUnit::kMillimetre, &error)) << error;
+  ASSERT_TRUE(save_mesh_file(generated.vertebra(VertebraLevel::kC4), c4_stl, MeshFormat::kStlBinary, LengthUnit::kMillimetre, &error)) << error;
+  ASSERT_TRUE(save_mesh_file(generated.vertebra(VertebraLevel::kC5), c5_stl, MeshFormat::kStlBinary, LengthUnit::kMillimetre, &error)) << error;
+  AnatomyConfig obj = coarse("none");
+  obj.c4_mesh_path = c4_obj;
+  obj.c5_mesh_path = c5_obj;
+  AnatomyConfig stl = obj;
+  stl.c4_mesh_path = c4_stl;
+  stl.c5_mesh_path = c5_stl;
+  EXPECT_EQ(check_anatomy_files(obj), "");
+  const Anatomy a(obj), b(stl);
+  EXPECT_TRUE(a.report().meshes_from_files);
+  for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5}) {
+    EXPECT_EQ(a.vertebra(level).content_hash(), b.vertebra(level).content_hash());
+  }
+  ASSERT_EQ(a.bone_grid().values().size(), b.bone_grid().values().size());
+  EXPECT_TRUE(std::equal(a.bone_grid().values().begin(), a.bone_grid().values().end(), b.bone_grid().values().begin()));
+
+  // A broken file: a clear error before anything is built, and from the constructor.
+  TriangleMesh open = generated.vertebra(VertebraLevel::kC5);
+  open.triangles.resize(open.triangles.size() / 2);
+  ASSERT_TRUE(save_mesh_file(open, c5_stl, MeshFormat::kStlBinary, LengthUnit::kMillimetre, &error));
+  const std::string problem = check_anatomy_files(stl);
+  EXPECT_NE(problem.find(c5_stl + ": not a closed surface:"), std::string::npos) << problem;
+  EXPECT_THROW(Anatomy broken(stl), std::runtime_error);
+}
+
+TEST(ParticleBlock, EllipticRingWithWindow) {
+  ParticleBlockConfig b;
+  b.min_m = Vec3(-7, -3, -7) * kMm;
+  b.max_m = Vec3(7, 3, 7) * kMm;
+  b.shape = BlockShape::kEllipticCylinder;
+  b.axis = 1;
+  b.semi_a_m = 6 * kMm;   // x
+  b.semi_b_m = 5 * kMm;   // z
+  b.hole_a_m = 4 * kMm;
+  b.hole_b_m = 3 * kMm;
+  b.has_cutout = true;
+  b.cutout_min_m = Vec3(-2, -3, 0) * kMm;
+  b.cutout_max_m = Vec3(2, 3, 7) * kMm;
+  EXPECT_FALSE(b.contains(Vec3(0, 0, 0)));             // in the hole
+  EXPECT_TRUE(b.contains(Vec3(5 * kMm, 0, 0)));        // in the ring
+  EXPECT_FALSE(b.contains(Vec3(6.5 * kMm, 0, 0)));     // outside the ellipse
+  EXPECT_TRUE(b.contains(Vec3(0, 2 * kMm, -4 * kMm))); // ring, behind
+  EXPECT_FALSE(b.contains(Vec3(0, 0, 4 * kMm)));       // ring, but in the window
+  EXPECT_FALSE(b.contains(Vec3(5 * kMm, 3.5 * kMm, 0)));  // above the box
+  b.hole_a_m = b.hole_b_m = 0.0;
+  b.has_cutout = false;
+  EXPECT_TRUE(b.contains(Vec3(0, 0, 0)));              // a solid cylinder
+}
+
+TEST_F(AnatomyTest, WorldStepsWithBoneAndZoneSamples) {
+  WorldConfig w;
+  w.anatomy = coarse(dir_);
+  w.gravity_m_s2 = Vec3(0, 0, -kStandardGravity);
+  w.nucleus.enabled = true;
+  w.nucleus.spacing_m = 1.0e-3;
+  w.nucleus.materials.emplace_back();
+  ParticleBlockConfig nucleus;
+  nucleus.min_m = Vec3(-4, -2.95, -4) * kMm;
+  nucleus.max_m = Vec3(4, 2.95, 3) * kMm;
+  nucleus.shape = BlockShape::kEllipticCylinder;
+  nucleus.center_m = Vec3(0, 0, -0.5) * kMm;
+  nucleus.semi_a_m = 4 * kMm;
+  nucleus.semi_b_m = 3.5 * kMm;
+  w.nucleus.blocks.push_back(nucleus);
+  w.removal.min_m = Vec3(-10, -3.5, -8.5) * kMm;
+  w.removal.max_m = Vec3(10, 3.5, 9) * kMm;
+  w.instrument.enabled = true;
+  w.instrument.shape = InstrumentShape::kCupCurette;
+  w.instrument.cup_diameter_m = 3 * kMm;
+  // The cup 1 mm in front of the disc space, shaft along -z (the approach from anterior).
+  w.instrument_start.position = Vec3(0, 0, (9.05 + 1.9 + 80) * kMm);
+  World world(w);
+  ASSERT_NE(world.anatomy(), nullptr);
+  EXPECT_EQ(world.summary().zones.size(), 7u);
+  EXPECT_EQ(world.summary().zones[0].name, "vertebral_artery_left");
+  EXPECT_GT(world.summary().initial_target, 100);
+  // Push the cup down onto the C5 endplate's front edge: bone contact is measured.
+  DeviceSample s;
+  s.pose = w.instrument_start;
+  s.pose.position += Vec3(0, -3 * kMm, -6 * kMm);
+  double peak_contact = 0.0;
+  for (int i = 0; i < 300; ++i) {
+    s.t_s = world.time_s();
+    peak_contact = std::max(peak_contact, world.step(s).contact_force_N.norm());
+  }
+  const Frame& f = world.last_frame();
+  EXPECT_FALSE(world.failed());
+  EXPECT_EQ(f.zone_count, 7);
+  // The endplate of C5 is touched or within its warning distance; the arteries are far.
+  EXPECT_TRUE(f.zones[6].warning) << f.zones[6].distance_m;
+  EXPECT_GT(f.zones[0].distance_m, 5e-3);
+  EXPECT_GT(peak_contact, 0.01);  // Bullet's bone mesh stops the cup
+  std::vector<Event> events;
+  world.drain_events(events);
+  bool warned = false;
+  for (const Event& e : events) warned = warned || (e.kind == EventKind::kZoneWarning && e.zone == 6);
+  EXPECT_TRUE(warned);
+}
+
+}  // namespace
+}  // namespace acdr

@@ -1,0 +1,86 @@
+// Trajectory CSV reading, playback and waypoint interpolation.
+#include "engine/devices/trajectory.hpp"
+
+#include <gtest/gtest.h>
+
+#include "engine/devices/waypoint_path.hpp"
+
+namespace acdr {
+namespace {
+
+const char* kTwoSamples =
+    "# comment\n"
+    "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n"
+    "0.0,0,0,0,1,0,0,0\n"
+    "1.0,0.01,0.02,-0.03,0,0,0,1\n";
+
+TEST(Trajectory, ParsesAndInterpolates) {
+  std::string error;
+  auto t = Trajectory::parse_csv(kTwoSamples, "mem.csv", &error);
+  ASSERT_TRUE(t) << error;
+  EXPECT_DOUBLE_EQ(t->duration_s(), 1.0);
+  const Pose mid = t->at(0.5);
+  EXPECT_NEAR(mid.position.x(), 0.005, 1e-12);
+  EXPECT_NEAR(mid.position.z(), -0.015, 1e-12);
+  // Half way from identity to a half turn about z is a quarter turn.
+  EXPECT_NEAR(Eigen::AngleAxisd(mid.orientation).angle(), M_PI / 2, 1e-9);
+  EXPECT_EQ(t->at(-1.0).position, Vec3::Zero());
+  EXPECT_NEAR(t->at(5.0).position.y(), 0.02, 1e-12);
+}
+
+TEST(Trajectory, ErrorsNameTheLine) {
+  std::string error;
+  EXPECT_FALSE(Trajectory::parse_csv("t_s,x_m\n", "a.csv", &error));
+  EXPECT_NE(error.find("a.csv:1: bad header"), std::string::npos) << error;
+  EXPECT_FALSE(Trajectory::parse_csv("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,nan\n", "b.csv",
+                                     &error));
+  EXPECT_NE(error.find("b.csv:2: field 8"), std::string::npos) << error;
+  EXPECT_FALSE(Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n1,0,0,0,1,0,0,0\n0.5,0,0,0,1,0,0,0\n", "c.csv", &error));
+  EXPECT_NE(error.find("c.csv:3: time must increase"), std::string::npos) << error;
+  EXPECT_FALSE(Trajectory::parse_csv("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0\n", "d.csv",
+                                     &error));
+  EXPECT_NE(error.find("expected 8 fields"), std::string::npos) << error;
+}
+
+TEST(Trajectory, SaveLoadRoundTrip) {
+  std::string error;
+  auto t = Trajectory::parse_csv(kTwoSamples, "mem.csv", &error);
+  ASSERT_TRUE(t);
+  const std::string path = ::testing::TempDir() + "/roundtrip.csv";
+  ASSERT_TRUE(t->save_csv(path, &error)) << error;
+  auto back = Trajectory::load_csv(path, &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->samples().size(), 2u);
+  EXPECT_NEAR(back->samples()[1].pose.position.z(), -0.03, 1e-12);
+}
+
+TEST(WaypointPath, MinimumJerkStartsAndStopsAtRest) {
+  std::string error;
+  auto w = parse_waypoints(
+      "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n0,0,0,0,0,0,0\n1,10,0,0,0,0,90\n", "w.csv",
+      &error);
+  ASSERT_TRUE(w) << error;
+  const Trajectory t = sample_waypoints(*w, 1000.0);
+  ASSERT_EQ(t.samples().size(), 1001u);
+  // Midpoint of a minimum-jerk segment is half way; ends have zero velocity.
+  EXPECT_NEAR(t.at(0.5).position.x(), 0.005, 1e-9);
+  const double v_start = (t.samples()[1].pose.position.x() - t.samples()[0].pose.position.x()) / 1e-3;
+  EXPECT_LT(v_start, 1e-5);
+  // Peak speed of minimum jerk is 1.875 * distance / duration (Flash & Hogan 1985).
+  double peak = 0;
+  for (std::size_t i = 1; i < t.samples().size(); ++i)
+    peak = std::max(peak, (t.samples()[i].pose.position - t.samples()[i - 1].pose.position).norm() / 1e-3);
+  EXPECT_NEAR(peak, 1.875 * 0.01, 1e-4);
+  EXPECT_NEAR(Eigen::AngleAxisd(t.at(1.0).orientation).angle(), M_PI / 2, 1e-9);
+}
+
+TEST(WaypointPath, RejectsBadRows) {
+  std::string error;
+  EXPECT_FALSE(parse_waypoints("t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg\n0,0,0,0,0,0,0\n0,1,0,0,0,0,0\n",
+                               "w.csv", &error));
+  EXPECT_NE(error.find("w.csv:3: time must increase"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace acdr
