@@ -8,7 +8,7 @@
 namespace acdr {
 
 /// A scored metric: z = (value - expert_mean) / expert_sd (sign flipped when lower is better),
-/// scored 50 + 10*z clipped to [0, 100] (UCSF ATOSS convention, REFERENCES.md).
+/// scored 50 + 10*z clipped to [0, 100] (UCSF ATOSS convention, docs/references.md).
 struct RubricTerm {
   std::string metric;
   double expert_mean = 0.0;

@@ -1,5 +1,5 @@
 // Composite score (UCSF ATOSS 50 + 10·z convention) and gates (every safety metric must pass
-// on its own, as in the da Vinci MScore; REFERENCES.md, Assessment anchors).
+// on its own, as in the da Vinci MScore; docs/references.md, Assessment anchors).
 #include "assessment/scoring.hpp"
 
 #include <algorithm>
@@ -50,7 +50,7 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
   const double* numerical = metrics.find("numerical_events");
   const bool numerics_ok = !numerical || *numerical == 0;
   if (!numerics_ok) r.reasons.push_back("the simulation reported numerical trouble");
-  // Any never-event fails the attempt, whatever the rubric says (issue 6; the zones that
+  // Any never-event fails the attempt, whatever the rubric says (the zones that
   // were entered are named by their zone.<id>.never_event metrics).
   const double* never = metrics.find("never_events");
   const bool never_ok = !never || *never == 0;

@@ -1,5 +1,5 @@
-// Formats of a benchmark report: the readable table, CSV, and JSON with the keys of issue 5
-// ({"points": [{"scene", "solver", "settings", "wall_s_per_sim_s", "force_rms_error",
+// Formats of a benchmark report: the readable table, CSV, and JSON with the keys
+// docs/performance.md lists ({"points": [{"scene", "solver", "settings", "wall_s_per_sim_s", "force_rms_error",
 // "removed_error", ...}], "scaling": {...}, "skips": [...]}).
 #pragma once
 

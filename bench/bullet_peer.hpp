@@ -8,7 +8,7 @@
 //    voxel, are then 0.25 mm instead of 0.25 m); soft-body margin = our contact distance h/2,
 //    set before any node is added; rigid shapes' margins 0.01 mm;
 //  - double-precision Bullet (the single-precision build misjudges node-box distances at this
-//    scale, DESIGN.md);
+//    scale, docs/dependencies.md);
 //  - position iterations swept (the knob Bullet's soft bodies trade accuracy for time with);
 //    link stiffness kLST and velocity damping kDP given per point;
 //  - the instrument is a heavy (1000 kg) body without gravity and without contact to the

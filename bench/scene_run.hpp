@@ -1,7 +1,7 @@
 // One benchmark run: a World built from a scene description with chosen solver settings,
 // driven by a trajectory over a time window, with the figures the benchmark compares
 // (instrument force over time, nucleus removed, wall and CPU time per stage). Shared by the
-// `acdr bench` command, the probe program and the micro-benchmarks (STYLE.md: scene builders
+// `acdr bench` command, the probe program and the micro-benchmarks (docs/architecture.md: scene builders
 // are shared, never copied).
 #pragma once
 

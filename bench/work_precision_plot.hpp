@@ -1,6 +1,6 @@
 // The work-precision diagram as a picture: error against run time on log-log axes (as in
 // the ODE-solver work-precision diagrams of Hairer & Wanner and the physics-engine
-// speed/accuracy comparisons in REFERENCES.md), one colour per solver, drawn by a small
+// speed/accuracy comparisons in docs/references.md), one colour per solver, drawn by a small
 // rasteriser into an RGB buffer (the caller writes the PNG).
 #pragma once
 

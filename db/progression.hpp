@@ -1,7 +1,7 @@
 // Curriculum progression from the record: per trainee and module, how many attempts, the
 // passing run at the end, whether the module is mastered, and whether it is unlocked.
 //
-// The rule (proficiency-based, as FLS and the da Vinci MScore curricula use, REFERENCES.md
+// The rule (proficiency-based, as FLS and the da Vinci MScore curricula use, docs/references.md
 // "Assessment anchors"): a module is mastered once the trainee has passed it on
 // `consecutive_passes_required` attempts in a row (default 2, stored with the module). Mastery
 // is kept once reached: a later failed attempt does not re-lock what the trainee has shown. A

@@ -1,6 +1,6 @@
 // A prepared SQLite statement owned by RAII: bind parameters by position, step through rows,
 // read columns. Every value from outside the program reaches SQL only through bind(), never by
-// building SQL text (STYLE.md, SQLite).
+// building SQL text (docs/architecture.md, SQLite).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Export of attempts as xAPI 1.0.3 statements following the cmi5 rules (REFERENCES.md,
+// Export of attempts as xAPI 1.0.3 statements following the cmi5 rules (docs/references.md,
 // "Training-record standards"), for a learning record store.
 //
 // Per completed, non-practice attempt, in start order:

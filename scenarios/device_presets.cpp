@@ -1,4 +1,4 @@
-// The preset table. Values from CHAI3D's CPhantomDevices.cpp as collected in REFERENCES.md.
+// The preset table. Values from CHAI3D's CPhantomDevices.cpp as collected in docs/references.md.
 #include "scenarios/device_presets.hpp"
 
 namespace acdr {

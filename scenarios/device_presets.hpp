@@ -1,4 +1,4 @@
-// Haptic devices a scenario may name by preset, with their rated figures (REFERENCES.md,
+// Haptic devices a scenario may name by preset, with their rated figures (docs/references.md,
 // Haptics: CHAI3D's CPhantomDevices.cpp). A scenario's explicit values override a preset's.
 #pragma once
 

@@ -125,12 +125,12 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
 double estimated_particles(const ParticleBlockConfig& b, double h) {
   double n = 1.0;
   for (int i = 0; i < 3; ++i) n *= std::floor((b.max_m[i] - b.min_m[i]) / h) + 1.0;
-  // An elliptic region fills at most pi/4 of its box (anatomy, issue 4).
+  // An elliptic region fills at most pi/4 of its box.
   if (b.shape == BlockShape::kEllipticCylinder) n *= 0.7854;
   return n;
 }
 
-// --- anatomy (issue 4): block shapes for the disc space ---------------------------------------
+// anatomy: block shapes for the disc space
 
 /// The optional shape of a nucleus block: an elliptic cylinder (the nucleus) or ring (the
 /// annulus) inside the block's box, and an optional cut-out (the annular window).
@@ -174,7 +174,7 @@ void read_block_shape(ObjectReader& br, ParticleBlockConfig& b) {
   }
 }
 
-// --- anatomy (issue 4): vertebrae, bone distance grid, danger zones --------------------------
+// anatomy: vertebrae, bone distance grid, danger zones
 
 void read_vertebra(ObjectReader& r, VertebraParams& v) {
   const Range len = Range::positive(50 * kMm);
@@ -361,7 +361,6 @@ void read_anatomy(ObjectReader& r, AnatomyConfig& a, const std::string& scenario
   }
   r.finish();
 }
-// --- end anatomy ---
 
 void read_nucleus(ObjectReader& r, NucleusConfig& n) {
   n.enabled = true;
@@ -394,7 +393,7 @@ void read_nucleus(ObjectReader& r, NucleusConfig& n) {
       b.min_m = *min;
       b.max_m = *max;
     }
-    read_block_shape(br, b);  // anatomy (issue 4)
+    read_block_shape(br, b);
     // A material by name (preferred) or by index into `materials`.
     const json* mat = br.raw("material", Need::kOptional, "integer|string",
                              "a material name or index");
@@ -617,7 +616,7 @@ void read_world(ObjectReader& r, WorldConfig& w, const std::string& scenario_pat
   if (auto o = r.object("coupling", Need::kOptional)) read_coupling(*o, w.coupling);
   if (auto o = r.object("device", Need::kOptional)) read_device(*o, w.device);
   if (auto o = r.object("solver", Need::kOptional)) read_solver(*o, w.solver);
-  if (auto o = r.object("anatomy", Need::kOptional)) read_anatomy(*o, w.anatomy, scenario_path);  // issue 4
+  if (auto o = r.object("anatomy", Need::kOptional)) read_anatomy(*o, w.anatomy, scenario_path);
   // Removal is what the nucleus is scored by, so a scene with a nucleus must say where it is.
   const bool nucleus_declared = r.has("nucleus");
   if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequiredHere : Need::kOptional)) {

@@ -4,7 +4,7 @@
 ACDR_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 ACDR_BUILD="${ACDR_BUILD:-$ACDR_ROOT/build}"
 
-# Debian 12 packages the project builds and runs with (DESIGN.md, Dependencies).
+# Debian 12 packages the project builds and runs with (docs/dependencies.md).
 ACDR_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libbullet-dev libeigen3-dev libsqlite3-dev nlohmann-json3-dev libimgui-dev libstb-dev

@@ -1,4 +1,4 @@
-// Numerical stability stress suite (issue 3, `acdr stress`): the box module's scene driven
+// Numerical stability stress suite (`acdr stress`): the box module's scene driven
 // through the whole World (device guard, virtual coupling, instrument, nucleus) by a scripted
 // device, swept over time step, bond stiffness, viscosity, instrument speed, a 5 cm teleport and
 // NaN/Inf device samples. Each case reports NaN, peak particle speed, kinetic-energy growth

@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
   stress_cmd->add_flag("--fast", stress.fast, "Coarser particles and shorter holds");
   stress_cmd->callback([&] { code = acdr::run_stress(stress, std::cout, std::cerr); });
 
-  // --- acdr bench (issue 5: performance) ---
+  // --- acdr bench ---
   acdr::BenchOptions bench;
   auto* bench_cmd = app.add_subcommand(
       "bench", "Work-precision benchmark: run time against error, Bullet soft-body peer, "
@@ -159,7 +159,6 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--scene", bench.scenes,
                         "NAME=SCENARIO.json:TRAJECTORY.csv[@WINDOW_START_S] (default: the box and healthy C4-C5 modules)");
   bench_cmd->callback([&] { code = acdr::run_bench(bench, std::cout, std::cerr); });
-  // --- end acdr bench ---
 
   // acdr render
   acdr::RenderOptions render;

@@ -1,7 +1,7 @@
 // The OpenGL 3.3 core entry points the renderer uses, as a table of function pointers loaded
 // through a get-proc-address callback. The same drawing code then runs on an OSMesa context
 // (OSMesaGetProcAddress) and in a GLFW window (glfwGetProcAddress) without linking libGL:
-// libOSMesa exports the gl* symbols itself and libGL would shadow them (DESIGN.md, black
+// libOSMesa exports the gl* symbols itself and libGL would shadow them (docs/dependencies.md, black
 // images). Nothing in ui/ calls a gl* symbol directly; everything goes through this table.
 #pragma once
 

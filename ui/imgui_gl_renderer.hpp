@@ -1,6 +1,6 @@
 // A Dear ImGui renderer backend on the GlFunctions table (OpenGL 3.3 core). It replaces the
 // packaged imgui_impl_opengl3, whose loader looks up glXGetProcAddressARB through dlsym and
-// fails under OSMesa (DESIGN.md), and imgui_impl_opengl2, which calls gl* symbols directly
+// fails under OSMesa (docs/dependencies.md), and imgui_impl_opengl2, which calls gl* symbols directly
 // (so it needs libGL in a window and a compatibility context offscreen). With this one the same
 // code draws ImGui into an OSMesa buffer and into a GLFW window; a window pairs it with the
 // packaged imgui_impl_glfw platform backend, which makes no GL calls.

@@ -13,7 +13,7 @@ bool write_png_rgb(const std::string& path, int width, int height,
                    const std::vector<std::uint8_t>& rgb, std::string* error);
 
 /// Converts GL's RGBA read-back (bottom row first) to RGB top row first: the alpha channel is
-/// dropped because GL's destination alpha is not the image's opacity (DESIGN.md).
+/// dropped because GL's destination alpha is not the image's opacity (docs/dependencies.md).
 std::vector<std::uint8_t> rgba_bottom_up_to_rgb(const std::vector<std::uint8_t>& rgba, int width,
                                                 int height);
 

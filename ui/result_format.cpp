@@ -163,7 +163,7 @@ std::string result_summary(const ResultContext& c) {
   std::snprintf(line, sizeof line, "  tip path               %8.1f mm\n",
                 metric("tip_path_length_mm"));
   s += line;
-  // Danger zones (issue 6): totals, then each zone that was approached.
+  // Danger zones: totals, then each zone that was approached.
   const auto& zones = c.run.record.summary.zones;
   if (!zones.empty()) {
     std::snprintf(line, sizeof line,

@@ -79,7 +79,6 @@ RenderCamera frame_work_area(const World& world, const Frame& frame, const Rende
   return frame_bounds(box.min().cast<float>(), box.max().cast<float>(), aspect);
 }
 
-// --- anatomy (issue 4) ---
 /// The vertebrae as opaque bone and the danger zones as translucent solids.
 void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
                  const SceneStyle& style) {
@@ -103,7 +102,7 @@ void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
                            : n.find("root") != std::string::npos ? style.nerve
                            : n.find("cord") != std::string::npos ? style.cord
                                                                  : style.zone;
-    // Issue 7: a zone turns its warning colour as the instrument comes within its warning
+    // A zone turns its warning colour as the instrument comes within its warning
     // distance, and the danger colour (more opaque) once the instrument is inside it.
     if (static_cast<int>(zi) < frame.zone_count && zi < frame.zones.size()) {
       if (frame.zones[zi].inside)
@@ -130,7 +129,6 @@ void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
     scene.meshes.push_back(std::move(mesh));
   }
 }
-// --- end anatomy ---
 
 }  // namespace
 
@@ -185,13 +183,13 @@ RenderScene snapshot_state(const World& world, const WorldState& state, float as
     }
   }
   if (const Anatomy* anatomy = world.anatomy())
-    add_anatomy(scene, *anatomy, state.frame, style);  // issue 4
+    add_anatomy(scene, *anatomy, state.frame, style);
   // Translucent meshes last (the renderer sorts them back to front).
   std::stable_partition(scene.meshes.begin(), scene.meshes.end(),
                         [](const RenderMesh& m) { return m.rgba.w() >= 1.0f; });
   scene.camera = frame_work_area(world, state.frame, scene, aspect);
   if (const Anatomy* anatomy = world.anatomy()) {
-    // --- anatomy (issue 4): the surgeon's view, from anterior (+z, up), a little to the left
+    // anatomy: the surgeon's view, from anterior (+z, up), a little to the left
     // and caudal, framing the disc space and the foramina; the spine runs up the image.
     const SegmentLandmarks& l = anatomy->landmarks();
     const float reach = static_cast<float>(std::abs(l.foramen_transversarium_m[0].x()) + 6e-3);

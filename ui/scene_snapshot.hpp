@@ -17,16 +17,14 @@ struct SceneStyle {
   Eigen::Vector4f nucleus{0.93f, 0.80f, 0.45f, 1.0f};
   Eigen::Vector4f annulus{0.86f, 0.86f, 0.92f, 1.0f};
   Eigen::Vector4f removed{0.95f, 0.42f, 0.22f, 1.0f};  ///< material that left the removal region
-  // --- anatomy (issue 4) ---
   Eigen::Vector4f bone{0.90f, 0.86f, 0.74f, 1.0f};
   Eigen::Vector4f artery{0.85f, 0.12f, 0.12f, 0.55f};   ///< vertebral arteries, translucent
   Eigen::Vector4f nerve{0.98f, 0.86f, 0.20f, 0.55f};    ///< nerve roots
   Eigen::Vector4f cord{0.35f, 0.55f, 0.95f, 0.30f};     ///< spinal cord / PLL
   Eigen::Vector4f zone{0.95f, 0.35f, 0.80f, 0.35f};     ///< other declared zones
-  /// A zone the instrument is within the warning distance of (issue 7), and one it is inside.
+  /// A zone the instrument is within the warning distance of, and one it is inside.
   Eigen::Vector4f zone_warning{1.00f, 0.62f, 0.05f, 0.60f};
   Eigen::Vector4f zone_inside{1.00f, 0.05f, 0.05f, 0.80f};
-  // --- end anatomy ---
 };
 
 /// The scene as it is now, framed by a default camera for an image of the given aspect.

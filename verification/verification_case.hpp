@@ -1,4 +1,4 @@
-// Analytic verification of the nucleus physics (issue 3, `acdr verify`): each case builds a
+// Analytic verification of the nucleus physics (`acdr verify`): each case builds a
 // small scene from plain parameters, simulates it and compares one or more quantities with
 // their closed form (seed Eq. 2-11 and textbook results). Parameters are named numbers in SI
 // units so author case files (scenarios/verification_case_file) can override any of them.

@@ -75,7 +75,7 @@ void evaluate_zones(std::span<const DangerZone> zones, std::span<const Collider>
                     const Vec3& instrument_force_N, std::span<ZoneSample> out);
 
 /// Clinical defaults of the generated zones (scenario-editable). No published force limits
-/// were found (REFERENCES.md): these are documented defaults.
+/// were found (docs/references.md): these are documented defaults.
 struct C4C5ZoneParams {
   /// Vertebral artery radius: it fills most of its ~5.5 mm foramen. Default 1.9 mm.
   double artery_radius_m = 1.9e-3;

@@ -20,7 +20,7 @@
 
 namespace acdr {
 
-/// Morphometry of one cervical vertebra (SI). Defaults: C4 from REFERENCES.md "Cervical
+/// Morphometry of one cervical vertebra (SI). Defaults: C4 from docs/references.md "Cervical
 /// geometry"; values marked "default" were not found published and are scenario-editable.
 struct VertebraParams {
   /// Width of the disc-bearing endplate between the medial uncinate margins: disc width

@@ -28,7 +28,7 @@ struct Frame {
   std::int32_t active_particles = 0;  ///< particles integrated this step (not asleep)
   std::int32_t solver_iterations = 0;
   bool input_valid = true;            ///< false when the device sample was rejected
-  // --- anatomy (issue 4): one sample per danger zone, fixed capacity (no allocation) ---
+  // anatomy: one sample per danger zone, fixed capacity (no allocation)
   struct ZoneState {
     float distance_m = 0.0f;  ///< closest instrument-zone distance, negative overlapping
     float force_N = 0.0f;     ///< instrument force while within the warning distance, else 0
@@ -38,7 +38,6 @@ struct Frame {
   static constexpr int kZoneCapacity = 16;  ///< = kMaxZones (world_config.hpp)
   std::int32_t zone_count = 0;               ///< zones of the scene (WorldSummary::zones)
   std::array<ZoneState, kZoneCapacity> zones{};
-  // --- end anatomy ---
 };
 
 enum class EventKind : std::uint8_t {
@@ -52,7 +51,7 @@ enum class EventKind : std::uint8_t {
                        ///< (value: silence in s)
   kDeviceDisconnected, ///< device silent beyond its disconnect timeout: the attempt ends
                        ///< (value: silence in s)
-  // --- anatomy (issue 4); `zone` names the zone index, `detail` its name ---
+  // --- anatomy; `zone` names the zone index, `detail` its name ---
   kZoneWarning,        ///< instrument came within a zone's warning distance (value: distance m)
   kZoneEntry,          ///< instrument overlapped a zone (value: distance m, negative)
   kNeverEvent,         ///< entry into a never-event zone: the attempt fails (value: distance m)
@@ -69,7 +68,7 @@ struct Event {
   EventKind kind = EventKind::kNumerical;
   double value = 0.0;
   std::string detail;
-  std::int32_t zone = -1;  ///< zone index for zone events (anatomy, issue 4), else -1
+  std::int32_t zone = -1;  ///< zone index for zone events, else -1
 };
 
 }  // namespace acdr

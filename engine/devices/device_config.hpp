@@ -5,7 +5,7 @@
 
 namespace acdr {
 
-/// The haptic device the force is sent to (REFERENCES.md, Haptics).
+/// The haptic device the force is sent to (docs/references.md, Haptics).
 struct DeviceConfig {
   std::string name = "Touch";
   double max_force_N = 3.3;

@@ -1,5 +1,5 @@
 // The haptic loop: a thread of its own that calls a step function at a fixed rate (>= 1 kHz,
-// REFERENCES.md Haptics; the seed ran 1.5 kHz), paced by an absolute clock (sleep_until the
+// docs/references.md, Haptics; the seed ran 1.5 kHz), paced by an absolute clock (sleep_until the
 // next tick, so errors do not accumulate), independent of rendering. It measures what it
 // achieved — ticks per second, the period between tick starts (mean, p99, max), the work time
 // per tick, overruns — and reports honestly when the step cannot keep up: it does not burst

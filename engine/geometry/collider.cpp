@@ -105,7 +105,7 @@ double signed_distance_local(const Collider& c, const Vec3& local, Vec3* normal)
     case ColliderKind::kCupShell:
       d = cup_distance(local, c.radius_m, c.thickness_m, normal ? &n_local : nullptr);
       break;
-    case ColliderKind::kSdfGrid:  // anatomy (issue 4): bone as a sampled distance field
+    case ColliderKind::kSdfGrid:  // anatomy: bone as a sampled distance field
       d = c.sdf ? c.sdf->distance(local, normal ? &n_local : nullptr) : 1.0;
       break;
   }

@@ -9,14 +9,14 @@
 
 namespace acdr {
 
-class SignedDistanceGrid;  // anatomy (issue 4): engine/geometry/signed_distance_grid.hpp
+class SignedDistanceGrid;  // anatomy: engine/geometry/signed_distance_grid.hpp
 
 enum class ColliderKind : std::uint8_t {
   kHalfSpace,  ///< solid below the local plane z = 0 (normal +z)
   kBox,        ///< solid box, half extents in the local frame
   kCapsule,    ///< segment from local (0,0,-half_length) to (0,0,+half_length), radius
   kCupShell,   ///< hemispherical cup: spherical shell of `radius` and `thickness`, open at local +z
-  /// Bone (anatomy, issue 4): the sampled signed distance of a closed mesh, `sdf`, in the local
+  /// Bone: the sampled signed distance of a closed mesh, `sdf`, in the local
   /// frame. Trilinear: exact at grid points, within a few micrometres of the true distance
   /// near bone at 0.25 mm spacing (it may overestimate that little near convex edges).
   kSdfGrid,

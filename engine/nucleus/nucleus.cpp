@@ -1,7 +1,7 @@
 // Nucleus solver: one linearised backward-Euler step per tick for all particle velocities.
 //
 // Why this scheme. At h = 1 mm and mu = 250 Pa s an explicit viscous step must be ~0.5 us
-// (Morris limit, REFERENCES.md Numerics) and a k = 5 N/m lattice of 1 mg particles has
+// (Morris limit, docs/references.md, Numerics) and a k = 5 N/m lattice of 1 mg particles has
 // omega*dt ~ 10 at 1 ms, so every stiff part must be implicit. We take the velocity form of
 // backward Euler linearised at the start of the step (Baraff & Witkin, SIGGRAPH 1998):
 //
@@ -146,7 +146,7 @@ Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
       for (int j = 0; j < n.y(); ++j)
         for (int i = 0; i < n.x(); ++i) {
           const Vec3 p = block.min_m + h_ * Vec3(i + 0.5, j + 0.5, k + 0.5);
-          if (!block.contains(p)) continue;  // anatomy (issue 4): cylinder, ring, cutout
+          if (!block.contains(p)) continue;  // anatomy: cylinder, ring, cutout
           bool inside = false;
           for (const auto& c : static_colliders)
             if (signed_distance(c, p, nullptr) < 0.5 * contact) inside = true;
@@ -483,7 +483,7 @@ Vec3 Nucleus::min_image(const Vec3& d) const {
 // ------------------------------------------------------------------------------------------
 // The step
 //
-// Performance layout (issue 5). Only the particles a step needs take part in it: the awake
+// Performance layout. Only the particles a step needs take part in it: the awake
 // ones, the halo of sleeping particles within R of them, and the outer neighbours of the
 // halo, numbered compactly (local indices) so the solver's vectors are contiguous. Neighbours
 // come from per-particle Verlet rows (R + skin) that are rebuilt only after two particles

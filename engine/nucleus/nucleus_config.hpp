@@ -11,10 +11,10 @@
 namespace acdr {
 
 /// One particle material (nucleus pulposus, annulus). Defaults: the seed's shortening-like
-/// nucleus (seed Sec. IV.A: viscosity >= 250 Pa·s) at water-like density (REFERENCES.md).
+/// nucleus (seed Sec. IV.A: viscosity >= 250 Pa·s) at water-like density (docs/references.md).
 struct MaterialConfig {
   std::string name = "nucleus";
-  double density_kg_m3 = 1050.0;    ///< gel density, 1000-1100 usual (REFERENCES.md)
+  double density_kg_m3 = 1050.0;    ///< gel density, 1000-1100 usual (docs/references.md)
   double viscosity_Pa_s = 250.0;    ///< Newtonian shear viscosity mu (seed Eq. 2-3)
   double bond_stiffness_N_m = 5.0;  ///< spring stiffness k between bonded particles (Eq. 9)
   double bond_break_m = 0.3e-3;     ///< break stretch delta_max; a bond breaks at k*delta_max (Eq. 10)
@@ -22,7 +22,7 @@ struct MaterialConfig {
   /// Bulk modulus of the particle pressure (density constraint), Pa: a penalty that keeps the
   /// water-rich gel nearly incompressible (hydrostatic compression of a 1 cm layer ~0.2 %).
   /// Not published for NP; 50 kPa is of the order of its measured moduli (5-60 kPa,
-  /// REFERENCES.md) and keeps the buoyancy case within a few percent (docs/verification.md).
+  /// docs/references.md) and keeps the buoyancy case within a few percent (docs/verification.md).
   double bulk_modulus_Pa = 5.0e4;
 };
 

@@ -38,7 +38,7 @@ struct InstrumentConfig {
 /// Virtual coupling between the device pose and the instrument (Colgate 1995; Adams &
 /// Hannaford 1999). Critical damping is kd = 2*sqrt(m*ks).
 struct CouplingConfig {
-  double stiffness_N_m = 500.0;       ///< below the Phantom Omni's 700 N/m (REFERENCES.md)
+  double stiffness_N_m = 500.0;       ///< below the Phantom Omni's 700 N/m (docs/references.md)
   double damping_Ns_m = -1.0;         ///< < 0: critically damped from mass and stiffness
   double rot_stiffness_Nm_rad = 0.5;
   double rot_damping_Nms_rad = -1.0;  ///< < 0: critically damped from inertia

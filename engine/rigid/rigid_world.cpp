@@ -1,4 +1,4 @@
-// Bullet rigid world at millimetre scale, in double precision (DESIGN.md: the single-precision
+// Bullet rigid world at millimetre scale, in double precision (docs/dependencies.md: the single-precision
 // build misplaces contacts at this scale; default margins of 0.04 units are far too large).
 #include "engine/rigid/rigid_world.hpp"
 
@@ -26,7 +26,7 @@ struct RigidWorld::Impl {
   btSequentialImpulseConstraintSolver solver;
   btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &collision_config};
 
-  // Bone meshes (issue 4), declared before the shapes that read them so they outlive them:
+  // Bone meshes, declared before the shapes that read them so they outlive them:
   // vertex and index copies in millimetres, their arrays, the unscaled BVH shapes.
   std::vector<std::vector<btScalar>> mesh_vertices;
   std::vector<std::vector<int>> mesh_indices;
@@ -104,7 +104,7 @@ RigidWorld::RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
         }
         // The hull caches its box with the margin it has when the box is computed; with the
         // default 0.04 (40 mm here) every query against bone returned thousands of triangles
-        // (found with the anatomy, issue 4: 300 ms per step). Set the margin first.
+        // (found with the anatomy: 300 ms per step). Set the margin first.
         hull->setMargin(kMargin);
         hull->recalcLocalAabb();
         shape = std::move(hull);
@@ -191,7 +191,6 @@ void RigidWorld::place_instrument(const Pose& grip) {
   body->clearForces();
 }
 
-// --- anatomy (issue 4) ---
 void RigidWorld::add_static_mesh(const TriangleMesh& mesh) {
   // Bullet's BVH grows every triangle's box to at least 0.002 units a side (btOptimizedBvh,
   // MIN_AABB_DIMENSION), i.e. 2 mm in this metre world: every query would then return hundreds
@@ -218,7 +217,6 @@ void RigidWorld::add_static_mesh(const TriangleMesh& mesh) {
   impl_->mesh_arrays.push_back(std::move(array));
   impl_->mesh_shapes.push_back(std::move(bvh));
 }
-// --- end anatomy ---
 
 RigidContact RigidWorld::step(double dt, const Vec3& force_N, const Vec3& torque_Nm) {
   RigidContact contact;

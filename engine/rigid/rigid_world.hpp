@@ -50,7 +50,6 @@ class RigidWorld {
 
   /// Adds a static closed triangle mesh (bone, world frame) as a Bullet BVH triangle mesh with
   /// a 0.1 mm margin (built in millimetres, see rigid_world.cpp). The mesh is copied.
-  /// (anatomy, issue 4)
   void add_static_mesh(const TriangleMesh& mesh);
 
  private:

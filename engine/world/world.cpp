@@ -61,7 +61,7 @@ static_assert(Frame::kZoneCapacity == kMaxZones, "Frame::zones must hold every z
 World::World(const WorldConfig& config)
     : config_(config), guard_(config.device, config.instrument_start, config.solver.dt_s) {
   static_colliders_ = build_static_colliders(config_.ground, config_.box);
-  // --- anatomy (issue 4): vertebrae, their distance grid for the particles, the zones ---
+  // anatomy: vertebrae, their distance grid for the particles, the zones
   if (config_.anatomy.enabled) {
     anatomy_ = std::make_unique<Anatomy>(config_.anatomy);
     static_colliders_.push_back(anatomy_->bone_collider());
@@ -69,7 +69,6 @@ World::World(const WorldConfig& config)
       summary_.zones.push_back({z.name, z.warning_distance_m, z.force_limit_N, z.never_event});
     frame_.zone_count = static_cast<std::int32_t>(anatomy_->zones().size());
   }
-  // --- end anatomy ---
   if (config_.instrument.enabled) instrument_.emplace(config_.instrument);
   rigid_ = std::make_unique<RigidWorld>(config_.gravity_m_s2, config_.instrument_start,
                                         instrument_ ? &*instrument_ : nullptr, static_colliders_);
@@ -116,7 +115,6 @@ void World::emit(EventKind kind, double value, const char* detail) {
   if (events_.size() < events_.capacity()) events_.push_back(Event{t_, kind, value, detail});
 }
 
-// --- anatomy (issue 4) ---
 // Distances from the instrument (at its new pose, in moving_) to every zone, into the frame;
 // events on the rising edge of warning, entry (a never-event zone's entry also emits
 // kNeverEvent) and force above the zone's limit while near it.
@@ -147,7 +145,6 @@ void World::evaluate_zones_and_emit(const Vec3& tissue_force_N) {
     zone_force_active_[i] = over;
   }
 }
-// --- end anatomy ---
 
 void World::drain_events(std::vector<Event>& out) {
   out.insert(out.end(), events_.begin(), events_.end());
@@ -177,7 +174,7 @@ const Frame& World::step(const DeviceSample& sample) {
   const double dt = config_.solver.dt_s;
   StageClock clock{times_};
 
-  // --- input: filter the device pose into a coupling target.
+  // input: filter the device pose into a coupling target.
   // A stale sample (the device went silent) holds the target and zeroes the force; it is
   // recorded once per silence, apart from rejected (NaN, jump) samples.
   const GuardedInput in = sample.stale ? guard_.accept_lost() : guard_.accept(sample.pose);
@@ -205,7 +202,7 @@ const Frame& World::step(const DeviceSample& sample) {
     const Vec3 w0 = rigid_->instrument_angular_velocity();
     const Vec3 v_grip = v0 + w0.cross(grip.position - com);
 
-    // --- nucleus: particles step against the instrument at its current pose and velocity.
+    // nucleus: particles step against the instrument at its current pose and velocity.
     instrument_->world_colliders(grip, v_grip, w0, moving_);
     BodyReaction& reaction = reactions_[0];
     reaction = BodyReaction{};
@@ -221,7 +218,7 @@ const Frame& World::step(const DeviceSample& sample) {
     }
     clock.lap(StepStage::kNucleus);
 
-    // --- instrument: implicit update of the 6-DOF body under coupling, nucleus reaction and
+    // instrument: implicit update of the 6-DOF body under coupling, nucleus reaction and
     // gravity. Damping terms (coupling damper, nucleus drag) are taken at the new velocity, so
     // the update is stable for any drag (backward Euler in the velocities; Baraff & Witkin 1998).
     const auto& cc = config_.coupling;
@@ -295,13 +292,12 @@ const Frame& World::step(const DeviceSample& sample) {
     warning_active_ = warn;
     yield_active_ = yield;
 
-    // --- anatomy (issue 4): danger zones against the instrument at its new pose; the force
+    // anatomy: danger zones against the instrument at its new pose; the force
     // near a zone is what the instrument presses on tissue (bone contact and nucleus).
     if (anatomy_) {
       instrument_->world_colliders(g1, vg1, rigid_->instrument_angular_velocity(), moving_);
       evaluate_zones_and_emit(contact.force_N + nucleus_force);
     }
-    // --- end anatomy ---
 
     if (!g1.position.allFinite() || !g1.orientation.coeffs().allFinite() ||
         !vg1.allFinite()) {
@@ -319,14 +315,14 @@ const Frame& World::step(const DeviceSample& sample) {
     clock.lap(StepStage::kNucleus);
   }
 
-  // --- feedback: the user feels the reaction of the coupling, limited for the device.
+  // feedback: the user feels the reaction of the coupling, limited for the device.
   const GuardedForce out = guard_.limit(-coupling_force, t_ + dt);
   if (out.clamped && !clamp_active_)
     emit(EventKind::kForceClamped, out.requested_N, "force above device maximum");
   clamp_active_ = out.clamped;
   clock.lap(StepStage::kFeedback);
 
-  // --- record.
+  // record.
   t_ += dt;
   ++steps_;
   frame_.t_s = t_;

@@ -40,7 +40,7 @@ struct WorldSummary {
   double yield_moment_Nm = 0.0;
   double warning_moment_Nm = 0.0;
   double device_max_force_N = 0.0;
-  // --- anatomy (issue 4): the danger zones, in the order of Frame::zones ---
+  // anatomy: the danger zones, in the order of Frame::zones
   struct Zone {
     std::string name;
     double warning_distance_m = 0.0;
@@ -48,7 +48,6 @@ struct WorldSummary {
     bool never_event = false;
   };
   std::vector<Zone> zones;
-  // --- end anatomy ---
 };
 
 class World {
@@ -74,7 +73,7 @@ class World {
   const Frame& last_frame() const { return frame_; }
   const StageTimes& stage_times() const { return times_; }
   const Nucleus* nucleus() const { return nucleus_.get(); }
-  /// The anatomical scene (vertebrae, grids, zones), or null without anatomy (issue 4).
+  /// The anatomical scene (vertebrae, grids, zones), or null without anatomy.
   const Anatomy* anatomy() const { return anatomy_.get(); }
   const InstrumentGeometry* instrument() const { return instrument_ ? &*instrument_ : nullptr; }
   const std::vector<Collider>& static_colliders() const { return static_colliders_; }
@@ -88,7 +87,7 @@ class World {
  private:
   void emit(EventKind kind, double value, const char* detail);
   void count_removed();
-  void evaluate_zones_and_emit(const Vec3& tissue_force_N);  // anatomy (issue 4)
+  void evaluate_zones_and_emit(const Vec3& tissue_force_N);
 
   WorldConfig config_;
   WorldSummary summary_;
@@ -113,7 +112,7 @@ class World {
   bool warning_active_ = false;
   bool yield_active_ = false;
   bool clamp_active_ = false;
-  // Per-zone state of the last step, for edge-triggered zone events (anatomy, issue 4).
+  // Per-zone state of the last step, for edge-triggered zone events.
   std::array<ZoneSample, kMaxZones> zone_samples_{};
   std::array<std::uint8_t, kMaxZones> zone_warn_active_{};
   std::array<std::uint8_t, kMaxZones> zone_inside_active_{};

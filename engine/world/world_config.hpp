@@ -30,7 +30,7 @@ struct WorldConfig {
   SolverConfig solver;
   RemovalRegionConfig removal;
   Pose instrument_start;  ///< grip pose at t = 0 (also the device pose until input arrives)
-  AnatomyConfig anatomy;  ///< anatomy (issue 4)
+  AnatomyConfig anatomy;  ///< anatomy
 };
 
 }  // namespace acdr

@@ -1,4 +1,4 @@
-// End to end (issue 6 acceptance) with the acdr program: `acdr run` killed by SIGKILL
+// End to end with the acdr program: `acdr run` killed by SIGKILL
 // mid-attempt leaves an intact record, and the next start (`acdr report`) shows the attempt
 // aborted with the recording and the metrics of its last checkpoint, which agree exactly — for
 // a headless replay and for a live attempt over the UDP bridge; a completed attempt re-scored
@@ -199,7 +199,7 @@ pid_t spawn(const std::vector<std::string>& argv, bool quiet) {
   _exit(127);
 }
 
-// Issue 6: a live attempt (the UDP bridge, `acdr device-sim` as the device) checkpoints on its
+// A live attempt (the UDP bridge, `acdr device-sim` as the device) checkpoints on its
 // writer thread; killed with SIGKILL mid-attempt, it leaves an intact record in which the next
 // start shows it aborted with the frames, events and metrics of its last checkpoint, and
 // `acdr rescore` re-computes exactly those metrics from its recording while it stays aborted.

@@ -222,7 +222,6 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(w.removal.max_m, d.world.removal.max_m);
   EXPECT_NE(w.instrument_start.position, d.world.instrument_start.position);
   EXPECT_FALSE(w.instrument_start.orientation.isApprox(d.world.instrument_start.orientation));
-  // --- anatomy (issue 4) ---
   const ParticleBlockConfig& shaped = w.nucleus.blocks[1];
   EXPECT_NE(shaped.shape, bd.shape);
   EXPECT_NE(shaped.axis, bd.axis);
@@ -301,7 +300,6 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(band.warning_distance_m, zdef.warning_distance_m);
   EXPECT_NE(band.force_limit_N, zdef.force_limit_N);
   EXPECT_NE(an.cache_dir, ad.cache_dir);
-  // --- end anatomy ---
   const Rubric& rd = d.rubric;
   ASSERT_EQ(m.rubric.terms.size(), 2u);
   const RubricTerm td;
@@ -514,7 +512,7 @@ TEST(ScenarioLoaderErrors, UnknownMetricAndMaterialAreCaught) {
   EXPECT_NE(material->message.find("expected one of \"nucleus\""), std::string::npos);
 }
 
-// Per-zone metrics (issue 6) are named "zone.<zone-id>.<quantity>": any such name loads, a
+// Per-zone metrics are named "zone.<zone-id>.<quantity>": any such name loads, a
 // malformed one is an error that states the pattern.
 TEST(ScenarioLoaderErrors, ZoneMetricNamesFollowThePattern) {
   const std::string gate = "{ \"metric\": \"overload_events\", \"max\": 0 }";
@@ -602,7 +600,6 @@ TEST(ScenarioLoaderErrors, NotAnObjectAndMissingFile) {
 }  // namespace
 }  // namespace acdr
 
-// --- anatomy (issue 4) ---
 
 namespace acdr {
 namespace {
@@ -749,4 +746,3 @@ TEST(ScenarioLoaderAnatomy, ShapedBlocksAreChecked) {
 
 }  // namespace
 }  // namespace acdr
-// --- end anatomy ---

@@ -246,16 +246,16 @@ TEST(Nucleus, StateHashIsDeterministicAndMatchesTheGolden) {
   const std::uint64_t a = run();
   EXPECT_EQ(a, run());
   // Recorded from a Release build (-O3, -ffp-contract=off); other optimisation levels may
-  // sum in another order and differ. Re-recorded for the compact step layout (issue 5: local
+  // sum in another order and differ. Re-recorded for the compact step layout (local
   // numbering, row-wise pairs, single-precision solver records); the same run's force trace
   // matches the previous layout within 5e-4 relative RMS. Re-recorded for the wall-sum cache
   // (SolverConfig::wall_sum_cache), which lags the wall sums by at most 0.005 h. Re-recorded
-  // for the row-wise assembly and merged apply passes (issue 5: sums in another order); on
+  // for the row-wise assembly and merged apply passes (sums in another order); on
   // the box demonstration from 1 s to 3 s the mean instrument force moved by 0.03 % and the
-  // peak not at all. Re-recorded for the single-precision 4-lane pair part of apply (issue 5:
+  // peak not at all. Re-recorded for the single-precision 4-lane pair part of apply (
   // x and the pair sums rounded to float, ~1e-7 relative); on the box demonstration from 1 s
   // to 3 s the mean instrument force moved by 0.012 % and the peak not at all. Re-recorded for
-  // the 26-neighbour viscous stencil (R = 1.98 h, weights (1 - r/R)^1.25; issue 5: a fifth
+  // the 26-neighbour viscous stencil (R = 1.98 h, weights (1 - r/R)^1.25: a fifth
   // fewer pairs): on that demonstration the mean force moved by -0.09 %, the peak by -0.8 %,
   // the 10 ms force windows by 1.1 % RMS; acdr verify 13/13 and acdr stress 13/13.
   constexpr std::uint64_t kGolden = 0x069cd22d90f9864aull;

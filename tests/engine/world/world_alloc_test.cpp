@@ -1,4 +1,4 @@
-// No heap allocation inside World::step (STYLE.md, The step): a global operator new that
+// No heap allocation inside World::step (docs/architecture.md, The step): a global operator new that
 // counts, and a scoop through the nucleus that exercises waking, sleeping, neighbour-row
 // rebuilds, bond breaks and wall contact. Allocations before the counted steps (building the
 // world, Bullet's first contact manifolds) are allowed; none after.

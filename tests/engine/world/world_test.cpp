@@ -99,7 +99,7 @@ TEST(World, NonFiniteInputIsRejectedAndReported) {
   EXPECT_EQ(events[0].kind, EventKind::kInputRejected);
 }
 
-// The safety rules of issue 7, each recorded as an event: force clamped to the device
+// The device safety rules, each recorded as an event: force clamped to the device
 // maximum, NaN input (above), a pose jump, and lost input (the device went silent).
 std::vector<Event> kinds_of(World& w, EventKind kind) {
   std::vector<Event> all, out;

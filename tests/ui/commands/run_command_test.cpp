@@ -220,7 +220,7 @@ TEST(RunCommandUdp, BadInputSpellingsAreUsageErrors) {
 }  // namespace
 }  // namespace acdr
 
-// --- records (issue 6): checkpoints of a live attempt ---
+// records: checkpoints of a live attempt
 namespace acdr {
 namespace {
 
@@ -280,4 +280,3 @@ TEST(RunCommandUdp, ALiveAttemptCheckpointsBesideItsPhysicsLoop) {
 
 }  // namespace
 }  // namespace acdr
-// --- end records ---
