@@ -64,6 +64,15 @@ DbStatus run_with(Database& db, const char* sql, std::int64_t id) {
   return s->run();
 }
 
+// Runs `sql`, whose one parameter is the attempt id, calling `on_row(statement)` for each row.
+template <class OnRow>
+DbStatus each_attempt_row(Database& db, const char* sql, std::int64_t id, OnRow on_row) {
+  DbResult<Statement> s = db.prepare(sql);
+  if (!s) return s.error();
+  if (DbStatus b = s->bind_all(id); !b) return b;
+  return s->for_each_row([&] { return on_row(*s); });
+}
+
 // Inserts `events` numbered from `first_seq` on.
 DbStatus insert_events(Database& db, std::int64_t id, const std::vector<EventRecord>& events,
                        std::int64_t first_seq) {
@@ -71,22 +80,20 @@ DbStatus insert_events(Database& db, std::int64_t id, const std::vector<EventRec
       "INSERT INTO events (attempt_id, seq, t_s, kind, zone, zone_index, value, detail) "
       "VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
   if (!s) return s.error();
-  for (std::size_t i = 0; i < events.size(); ++i) {
-    const EventRecord& e = events[i];
-    // Not about a zone: NULL, not '' or -1.
-    const std::optional<std::string> zone =
-        e.zone.empty() ? std::nullopt : std::optional<std::string>(e.zone);
-    const std::optional<std::int64_t> zone_index =
-        e.zone_index >= 0 ? std::optional<std::int64_t>(e.zone_index) : std::nullopt;
-    if (DbStatus b = s->bind_all(id, first_seq + static_cast<std::int64_t>(i), e.t_s, e.kind,
-                                 zone, zone_index, e.value, e.detail);
-        !b) {
-      return b;
-    }
-    if (DbStatus r = s->run(); !r) return r;
-    if (DbStatus r = s->reset(); !r) return r;
-  }
-  return {};
+  return s->run_for_each(
+      events,
+      [&](std::size_t i, const EventRecord& e) {
+        // Not about a zone: NULL, not '' or -1.
+        const std::optional<std::string> zone =
+            e.zone.empty() ? std::nullopt : std::optional<std::string>(e.zone);
+        const std::optional<std::int64_t> zone_index =
+            e.zone_index >= 0 ? std::optional<std::int64_t>(e.zone_index) : std::nullopt;
+        return s->bind_all(id, first_seq + static_cast<std::int64_t>(i), e.t_s, e.kind, zone,
+                           zone_index, e.value, e.detail);
+      },
+      [&](std::size_t i) {
+        return attempt_where(db, id) + "event " + std::to_string(first_seq + i);
+      });
 }
 
 DbStatus write_events(Database& db, std::int64_t id, const std::vector<EventRecord>& events) {
@@ -141,64 +148,56 @@ DbStatus write_assessment(Database& db, std::int64_t id, const Metrics& metrics,
                           "DELETE FROM score_reasons WHERE attempt_id = ?"}) {
     if (DbStatus d = run_with(db, sql, id); !d) return d;
   }
-  {
-    DbResult<Statement> s = db.prepare(
-        "INSERT INTO metrics (attempt_id, name, position, value) VALUES (?, ?, ?, ?)");
-    if (!s) return s.error();
-    for (std::size_t i = 0; i < metrics.values.size(); ++i) {
-      const auto& [name, value] = metrics.values[i];
-      if (DbStatus b = s->bind_all(id, name, static_cast<std::int64_t>(i), value); !b) return b;
-      if (DbStatus r = s->run(); !r) {
-        return DbError{attempt_where(db, id) + "metric '" + name + "': " + r.error().message,
-                       r.error().sqlite_code};
-      }
-      if (DbStatus r = s->reset(); !r) return r;
-    }
+  const auto pos = [](std::size_t i) { return static_cast<std::int64_t>(i); };
+  const auto row_name = [&](const char* table) {
+    return [&db, id, table](std::size_t i) {
+      return attempt_where(db, id) + table + " row " + std::to_string(i);
+    };
+  };
+  DbResult<Statement> s =
+      db.prepare("INSERT INTO metrics (attempt_id, name, position, value) VALUES (?, ?, ?, ?)");
+  if (!s) return s.error();
+  if (DbStatus d = s->run_for_each(
+          metrics.values,
+          [&](std::size_t i, const auto& m) { return s->bind_all(id, m.first, pos(i), m.second); },
+          [&](std::size_t i) {
+            return attempt_where(db, id) + "metric '" + metrics.values[i].first + "'";
+          });
+      !d) {
+    return d;
   }
-  {
-    DbResult<Statement> s = db.prepare(
-        "INSERT INTO score_terms (attempt_id, position, metric, value, score) "
-        "VALUES (?, ?, ?, ?, ?)");
-    if (!s) return s.error();
-    for (std::size_t i = 0; i < score.terms.size(); ++i) {
-      const TermScore& t = score.terms[i];
-      if (DbStatus b = s->bind_all(id, static_cast<std::int64_t>(i), t.metric, t.value, t.score);
-          !b) {
-        return b;
-      }
-      if (DbStatus r = s->run(); !r) return r;
-      if (DbStatus r = s->reset(); !r) return r;
-    }
+  s = db.prepare(
+      "INSERT INTO score_terms (attempt_id, position, metric, value, score) "
+      "VALUES (?, ?, ?, ?, ?)");
+  if (!s) return s.error();
+  if (DbStatus d = s->run_for_each(
+          score.terms,
+          [&](std::size_t i, const TermScore& t) {
+            return s->bind_all(id, pos(i), t.metric, t.value, t.score);
+          },
+          row_name("score term"));
+      !d) {
+    return d;
   }
-  {
-    DbResult<Statement> s = db.prepare(
-        "INSERT INTO score_gates (attempt_id, position, metric, value, max, passed) "
-        "VALUES (?, ?, ?, ?, ?, ?)");
-    if (!s) return s.error();
-    for (std::size_t i = 0; i < score.gates.size(); ++i) {
-      const GateResult& g = score.gates[i];
-      if (DbStatus b = s->bind_all(id, static_cast<std::int64_t>(i), g.metric, g.value, g.max,
-                                   g.passed);
-          !b) {
-        return b;
-      }
-      if (DbStatus r = s->run(); !r) return r;
-      if (DbStatus r = s->reset(); !r) return r;
-    }
+  s = db.prepare(
+      "INSERT INTO score_gates (attempt_id, position, metric, value, max, passed) "
+      "VALUES (?, ?, ?, ?, ?, ?)");
+  if (!s) return s.error();
+  if (DbStatus d = s->run_for_each(
+          score.gates,
+          [&](std::size_t i, const GateResult& g) {
+            return s->bind_all(id, pos(i), g.metric, g.value, g.max, g.passed);
+          },
+          row_name("score gate"));
+      !d) {
+    return d;
   }
-  {
-    DbResult<Statement> s = db.prepare(
-        "INSERT INTO score_reasons (attempt_id, position, reason) VALUES (?, ?, ?)");
-    if (!s) return s.error();
-    for (std::size_t i = 0; i < score.reasons.size(); ++i) {
-      if (DbStatus b = s->bind_all(id, static_cast<std::int64_t>(i), score.reasons[i]); !b) {
-        return b;
-      }
-      if (DbStatus r = s->run(); !r) return r;
-      if (DbStatus r = s->reset(); !r) return r;
-    }
-  }
-  return {};
+  s = db.prepare("INSERT INTO score_reasons (attempt_id, position, reason) VALUES (?, ?, ?)");
+  if (!s) return s.error();
+  return s->run_for_each(
+      score.reasons,
+      [&](std::size_t i, const std::string& reason) { return s->bind_all(id, pos(i), reason); },
+      row_name("score reason"));
 }
 
 AttemptRecord read_attempt_row(const Statement& s) {
@@ -243,106 +242,90 @@ DbResult<std::vector<std::uint8_t>> unpack(const Database& db, std::int64_t id,
 
 // The checkpointed pieces of a recording, concatenated (nullopt when there are none).
 DbResult<std::optional<RecordingData>> read_chunks(Database& db, std::int64_t id) {
-  DbResult<Statement> s = db.prepare(
-      "SELECT seq, format, encoding, frame_count, raw_bytes, data FROM recording_chunks "
-      "WHERE attempt_id = ? ORDER BY seq");
-  if (!s) return s.error();
-  if (DbStatus b = s->bind_all(id); !b) return b.error();
   std::optional<RecordingData> out;
-  for (;;) {
-    DbResult<bool> row = s->step();
-    if (!row) return row.error();
-    if (!row.value()) break;
-    const std::string format = s->column_text(1);
-    if (!out) {
-      out.emplace();
-      out->format = format;
-      out->complete = false;
-    } else if (format != out->format) {
-      return DbError{attempt_where(db, id) + "recording chunk " +
-                         std::to_string(s->column_int64(0)) + " has format '" + format +
-                         "' (expected '" + out->format + "' like the first)",
-                     0};
-    }
-    out->frame_count += s->column_int64(3);
-    DbResult<std::vector<std::uint8_t>> raw =
-        unpack(db, id, s->column_text(2), s->column_blob(5), s->column_int64(4));
-    if (!raw) return raw.error();
-    out->bytes.insert(out->bytes.end(), raw->begin(), raw->end());
+  if (DbStatus r = each_attempt_row(
+          db,
+          "SELECT seq, format, encoding, frame_count, raw_bytes, data FROM recording_chunks "
+          "WHERE attempt_id = ? ORDER BY seq",
+          id,
+          [&](const Statement& s) -> DbStatus {
+            const std::string format = s.column_text(1);
+            if (!out) {
+              out.emplace();
+              out->format = format;
+              out->complete = false;
+            } else if (format != out->format) {
+              return DbError{attempt_where(db, id) + "recording chunk " +
+                                 std::to_string(s.column_int64(0)) + " has format '" + format +
+                                 "' (expected '" + out->format + "' like the first)",
+                             0};
+            }
+            out->frame_count += s.column_int64(3);
+            DbResult<std::vector<std::uint8_t>> raw =
+                unpack(db, id, s.column_text(2), s.column_blob(5), s.column_int64(4));
+            if (!raw) return raw.error();
+            out->bytes.insert(out->bytes.end(), raw->begin(), raw->end());
+            return {};
+          });
+      !r) {
+    return r.error();
   }
   return out;
 }
 
 DbStatus read_details(Database& db, AttemptRecord& a, const AttemptDetail& detail) {
   if (detail.metrics) {
-    {
-      DbResult<Statement> s = db.prepare(
-          "SELECT name, value FROM metrics WHERE attempt_id = ? ORDER BY position");
-      if (!s) return s.error();
-      if (DbStatus b = s->bind_all(a.id); !b) return b;
-      for (;;) {
-        DbResult<bool> row = s->step();
-        if (!row) return row.error();
-        if (!row.value()) break;
-        a.metrics.values.emplace_back(s->column_text(0), read_real(*s, 1));
-      }
+    const auto read = [&](const char* sql, auto on_row) {
+      return each_attempt_row(db, sql, a.id, on_row);
+    };
+    if (DbStatus r = read("SELECT name, value FROM metrics WHERE attempt_id = ? ORDER BY position",
+                          [&](const Statement& s) {
+                            a.metrics.values.emplace_back(s.column_text(0), read_real(s, 1));
+                          });
+        !r) {
+      return r;
     }
-    {
-      DbResult<Statement> s = db.prepare(
-          "SELECT metric, value, score FROM score_terms WHERE attempt_id = ? ORDER BY position");
-      if (!s) return s.error();
-      if (DbStatus b = s->bind_all(a.id); !b) return b;
-      for (;;) {
-        DbResult<bool> row = s->step();
-        if (!row) return row.error();
-        if (!row.value()) break;
-        a.score_detail.terms.push_back(
-            TermScore{s->column_text(0), read_real(*s, 1), read_real(*s, 2)});
-      }
+    if (DbStatus r = read("SELECT metric, value, score FROM score_terms WHERE attempt_id = ? "
+                          "ORDER BY position",
+                          [&](const Statement& s) {
+                            a.score_detail.terms.push_back(
+                                TermScore{s.column_text(0), read_real(s, 1), read_real(s, 2)});
+                          });
+        !r) {
+      return r;
     }
-    {
-      DbResult<Statement> s = db.prepare(
-          "SELECT metric, value, max, passed FROM score_gates WHERE attempt_id = ? "
-          "ORDER BY position");
-      if (!s) return s.error();
-      if (DbStatus b = s->bind_all(a.id); !b) return b;
-      for (;;) {
-        DbResult<bool> row = s->step();
-        if (!row) return row.error();
-        if (!row.value()) break;
-        a.score_detail.gates.push_back(GateResult{s->column_text(0), read_real(*s, 1),
-                                                  read_real(*s, 2), s->column_int64(3) != 0});
-      }
+    if (DbStatus r =
+            read("SELECT metric, value, max, passed FROM score_gates "
+                 "WHERE attempt_id = ? ORDER BY position",
+                 [&](const Statement& s) {
+                   a.score_detail.gates.push_back(GateResult{
+                       s.column_text(0), read_real(s, 1), read_real(s, 2), s.column_int64(3) != 0});
+                 });
+        !r) {
+      return r;
     }
-    {
-      DbResult<Statement> s = db.prepare(
-          "SELECT reason FROM score_reasons WHERE attempt_id = ? ORDER BY position");
-      if (!s) return s.error();
-      if (DbStatus b = s->bind_all(a.id); !b) return b;
-      for (;;) {
-        DbResult<bool> row = s->step();
-        if (!row) return row.error();
-        if (!row.value()) break;
-        a.score_detail.reasons.push_back(s->column_text(0));
-      }
+    if (DbStatus r =
+            read("SELECT reason FROM score_reasons WHERE attempt_id = ? "
+                 "ORDER BY position",
+                 [&](const Statement& s) { a.score_detail.reasons.push_back(s.column_text(0)); });
+        !r) {
+      return r;
     }
   }
   if (detail.events) {
-    DbResult<Statement> s = db.prepare(
-        "SELECT t_s, kind, zone, value, detail, zone_index FROM events WHERE attempt_id = ? "
-        "ORDER BY seq");
-    if (!s) return s.error();
-    if (DbStatus b = s->bind_all(a.id); !b) return b;
-    for (;;) {
-      DbResult<bool> row = s->step();
-      if (!row) return row.error();
-      if (!row.value()) break;
-      a.events.push_back(EventRecord{read_real(*s, 0), s->column_text(1),
-                                     s->column_optional_text(2).value_or(""), read_real(*s, 3),
-                                     s->column_text(4),
-                                     s->column_is_null(5)
-                                         ? -1
-                                         : static_cast<std::int32_t>(s->column_int64(5))});
+    if (DbStatus r = each_attempt_row(
+            db,
+            "SELECT t_s, kind, zone, value, detail, zone_index FROM events "
+            "WHERE attempt_id = ? ORDER BY seq",
+            a.id,
+            [&](const Statement& s) {
+              a.events.push_back(EventRecord{
+                  read_real(s, 0), s.column_text(1), s.column_optional_text(2).value_or(""),
+                  read_real(s, 3), s.column_text(4),
+                  s.column_is_null(5) ? -1 : static_cast<std::int32_t>(s.column_int64(5))});
+            });
+        !r) {
+      return r;
     }
   }
   if (detail.recording) {
@@ -609,13 +592,13 @@ DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(Database& db) {
         "SELECT id, writer_pid, writer_start, writer_host FROM attempts "
         "WHERE status = 'running' ORDER BY id");
     if (!s) return s.error();
-    for (;;) {
-      DbResult<bool> row = s->step();
-      if (!row) return row.error();
-      if (!row.value()) break;
-      running.push_back(Running{s->column_int64(0), WriterIdentity{s->column_int64(1),
-                                                                   s->column_int64(2),
-                                                                   s->column_text(3)}});
+    if (DbStatus r = s->for_each_row([&] {
+          running.push_back(
+              Running{s->column_int64(0),
+                      WriterIdentity{s->column_int64(1), s->column_int64(2), s->column_text(3)}});
+        });
+        !r) {
+      return r.error();
     }
   }
 
@@ -714,11 +697,8 @@ DbResult<std::vector<AttemptRecord>> list_attempts(Database& db, const AttemptFi
     return b.error();
   }
   std::vector<AttemptRecord> out;
-  for (;;) {
-    DbResult<bool> row = s->step();
-    if (!row) return row.error();
-    if (!row.value()) break;
-    out.push_back(read_attempt_row(*s));
+  if (DbStatus r = s->for_each_row([&] { out.push_back(read_attempt_row(*s)); }); !r) {
+    return r.error();
   }
   for (AttemptRecord& a : out) {
     if (DbStatus d = read_details(db, a, detail); !d) return d.error();

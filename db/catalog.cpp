@@ -36,11 +36,8 @@ DbStatus load_prerequisites(Database& db, ModuleRecord& m) {
       "ORDER BY prerequisite_id");
   if (!s) return s.error();
   if (DbStatus b = s->bind_all(m.id); !b) return b;
-  for (;;) {
-    DbResult<bool> row = s->step();
-    if (!row) return row.error();
-    if (!row.value()) break;
-    m.prerequisites->push_back(s->column_text(0));
+  if (DbStatus r = s->for_each_row([&] { m.prerequisites->push_back(s->column_text(0)); }); !r) {
+    return r.error();
   }
   return {};
 }
@@ -84,11 +81,11 @@ DbResult<std::vector<TraineeRecord>> list_trainees(Database& db) {
       db.prepare("SELECT id, display_name, created_utc FROM trainees ORDER BY id");
   if (!s) return s.error();
   std::vector<TraineeRecord> out;
-  for (;;) {
-    DbResult<bool> row = s->step();
-    if (!row) return row.error();
-    if (!row.value()) break;
-    out.push_back(TraineeRecord{s->column_text(0), s->column_text(1), s->column_text(2)});
+  if (DbStatus r = s->for_each_row([&] {
+        out.push_back(TraineeRecord{s->column_text(0), s->column_text(1), s->column_text(2)});
+      });
+      !r) {
+    return r.error();
   }
   return out;
 }
@@ -109,11 +106,11 @@ DbResult<std::vector<CurriculumRecord>> list_curricula(Database& db) {
   DbResult<Statement> s = db.prepare("SELECT id, title FROM curricula ORDER BY id");
   if (!s) return s.error();
   std::vector<CurriculumRecord> out;
-  for (;;) {
-    DbResult<bool> row = s->step();
-    if (!row) return row.error();
-    if (!row.value()) break;
-    out.push_back(CurriculumRecord{s->column_text(0), s->column_text(1)});
+  if (DbStatus r = s->for_each_row([&] {
+        out.push_back(CurriculumRecord{s->column_text(0), s->column_text(1)});
+      });
+      !r) {
+    return r.error();
   }
   return out;
 }
@@ -235,11 +232,8 @@ DbResult<std::vector<ModuleRecord>> list_modules(Database& db,
   if (!s) return s.error();
   if (DbStatus b = s->bind(1, curriculum_id); !b) return b.error();
   std::vector<ModuleRecord> out;
-  for (;;) {
-    DbResult<bool> row = s->step();
-    if (!row) return row.error();
-    if (!row.value()) break;
-    out.push_back(read_module_row(*s));
+  if (DbStatus r = s->for_each_row([&] { out.push_back(read_module_row(*s)); }); !r) {
+    return r.error();
   }
   for (ModuleRecord& m : out) {
     if (DbStatus p = load_prerequisites(db, m); !p) return p.error();
@@ -261,11 +255,8 @@ DbResult<std::vector<std::string>> effective_prerequisites(Database& db,
   if (DbStatus b = s->bind_all(*module.curriculum_id, module.id, module.position); !b) {
     return b.error();
   }
-  for (;;) {
-    DbResult<bool> row = s->step();
-    if (!row) return row.error();
-    if (!row.value()) break;
-    out.push_back(s->column_text(0));
+  if (DbStatus r = s->for_each_row([&] { out.push_back(s->column_text(0)); }); !r) {
+    return r.error();
   }
   return out;
 }

@@ -87,11 +87,7 @@ DbResult<bool> Statement::step() {
 }
 
 DbStatus Statement::run() {
-  for (;;) {
-    DbResult<bool> row = step();
-    if (!row) return row.error();
-    if (!row.value()) return {};
-  }
+  return for_each_row([] {});
 }
 
 DbStatus Statement::reset() {

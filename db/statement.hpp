@@ -54,6 +54,17 @@ class Statement {
   /// Makes the statement ready to run again; bindings are kept until rebound.
   DbStatus reset();
 
+  /// Steps through every row, calling `on_row()` to read each one's columns. Stops at the first
+  /// error, SQLite's or `on_row`'s when it returns a DbStatus.
+  template <class OnRow>
+  DbStatus for_each_row(OnRow on_row);
+
+  /// Runs the statement once per element of `items`: `bind_item(i, items[i])` binds its
+  /// parameters (returning the DbStatus of bind_all), then the statement runs and is reset.
+  /// An error from running row i is returned with `row_name(i)` and ": " before its message.
+  template <class Items, class BindItem, class RowName>
+  DbStatus run_for_each(const Items& items, BindItem bind_item, RowName row_name);
+
   bool column_is_null(int column) const;  ///< 0-based, like SQLite
   std::int64_t column_int64(int column) const;
   double column_double(int column) const;
@@ -107,6 +118,32 @@ DbStatus Statement::bind(int index, const T& value) {
   } else {
     static_assert(sizeof(T) == 0, "Statement::bind: unsupported parameter type");
   }
+}
+
+template <class OnRow>
+DbStatus Statement::for_each_row(OnRow on_row) {
+  for (;;) {
+    DbResult<bool> row = step();
+    if (!row) return row.error();
+    if (!row.value()) return {};
+    if constexpr (std::is_same_v<std::invoke_result_t<OnRow>, DbStatus>) {
+      if (DbStatus status = on_row(); !status) return status;
+    } else {
+      on_row();
+    }
+  }
+}
+
+template <class Items, class BindItem, class RowName>
+DbStatus Statement::run_for_each(const Items& items, BindItem bind_item, RowName row_name) {
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (DbStatus b = bind_item(i, items[i]); !b) return b;
+    if (DbStatus r = run(); !r) {
+      return DbError{row_name(i) + ": " + r.error().message, r.error().sqlite_code};
+    }
+    if (DbStatus r = reset(); !r) return r;
+  }
+  return {};
 }
 
 }  // namespace acdr
