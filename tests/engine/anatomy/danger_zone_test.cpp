@@ -4,21 +4,11 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstdlib>
-#include <new>
 #include <numbers>
 
 #include "engine/geometry/mesh_shapes.hpp"
-
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/counting_allocator.hpp"
 
 namespace acdr {
 namespace {
@@ -142,9 +132,9 @@ TEST(DangerZone, FlagsAndForcePerZoneWithoutAllocation) {
   zones[1].warning_distance_m = 2 * kMm;
   std::vector<Collider> instrument = {shaft(Vec3(2.5 * kMm, 5 * kMm, 0), Vec3(2.5 * kMm, 5 * kMm, 50 * kMm), 0.5 * kMm)};
   std::vector<ZoneSample> out(zones.size());
-  const long before = g_allocations.load();
+  const long before = test_support::heap_allocations();
   evaluate_zones(zones, instrument, Vec3(0, 0, 1.5), out);
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(test_support::heap_allocations(), before);
   EXPECT_NEAR(out[0].distance_m, 1 * kMm, 1e-12);
   EXPECT_TRUE(out[0].warning);
   EXPECT_FALSE(out[0].inside);

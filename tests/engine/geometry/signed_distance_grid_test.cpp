@@ -4,25 +4,14 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstdlib>
 #include <filesystem>
-#include <new>
 #include <random>
 
 #include "engine/core/disk_cache.hpp"
 #include "engine/geometry/mesh_shapes.hpp"
 #include "engine/geometry/iso_surface.hpp"
-
-// Counts heap allocations, to show that lookups make none.
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/counting_allocator.hpp"
 
 namespace acdr {
 namespace {
@@ -137,9 +126,9 @@ TEST(SignedDistanceGrid, LookupsDoNotAllocate) {
   const SignedDistanceGrid g = SignedDistanceGrid::build(m, SdfGridParams{});
   double sum = 0.0;
   Vec3 n;
-  const long before = g_allocations.load();
+  const long before = test_support::heap_allocations();
   for (int i = 0; i < 1000; ++i) sum += g.distance(Vec3(1e-5 * i, 2e-6 * i, -3e-6 * i), &n);
-  EXPECT_EQ(g_allocations.load(), before);
+  EXPECT_EQ(test_support::heap_allocations(), before);
   EXPECT_TRUE(std::isfinite(sum));
 }
 
