@@ -153,20 +153,9 @@ TEST(AcdrRunRecord, KilledAttemptIsAbortedWithItsCheckpointedRecordingAndMetrics
 
   Database db = test::open_or_fail(db_path);
   EXPECT_EQ(test::integrity_check(db), "ok");
-  auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
-  ASSERT_TRUE(attempts.ok()) << attempts.error().message;
-  ASSERT_EQ(attempts->size(), 1u);
-  const AttemptRecord& a = attempts->front();
-  EXPECT_EQ(a.status, AttemptStatus::kAborted);
-  ASSERT_TRUE(a.recording.has_value());
-  EXPECT_FALSE(a.recording->complete);
-  std::string error;
-  const auto decoded = decode_recording(a.recording->bytes, &error);
-  ASSERT_TRUE(decoded) << error;
-  ASSERT_GE(decoded->frames.size(), 300u);  // at least three 0.1 s checkpoints at 1 kHz
-  EXPECT_EQ(static_cast<std::int64_t>(decoded->frames.size()), a.recording->frame_count);
-  EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
-  EXPECT_EQ(a.duration_s, std::optional<double>(decoded->frames.back().t_s));
+  const AttemptRecord a = test::the_only_attempt(db);
+  const AttemptRecording decoded = test::expect_consistent_checkpointed_recording(a);
+  ASSERT_GE(decoded.frames.size(), 300u);  // at least three 0.1 s checkpoints at 1 kHz
   EXPECT_GT(*a.metrics.find("tip_path_length_mm"), 0.0);
 }
 
@@ -253,38 +242,27 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
   {
     Database db = test::open_or_fail(db_path);
     EXPECT_EQ(test::integrity_check(db), "ok");
-    auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
-    ASSERT_TRUE(attempts.ok()) << attempts.error().message;
-    ASSERT_EQ(attempts->size(), 1u);
-    a = attempts->front();
+    a = test::the_only_attempt(db);
   }
-  EXPECT_EQ(a.status, AttemptStatus::kAborted);
   EXPECT_EQ(a.input_device, "udp:" + std::to_string(port));
-  ASSERT_TRUE(a.recording.has_value());
-  EXPECT_FALSE(a.recording->complete);
-  std::string error;
-  const auto decoded = decode_recording(a.recording->bytes, &error);
-  ASSERT_TRUE(decoded) << error;
+  const AttemptRecording decoded = test::expect_consistent_checkpointed_recording(a);
   // At least three 0.2 s checkpoints of the 1 ms step, each ending on its own step.
-  ASSERT_GE(decoded->frames.size(), 600u);
-  EXPECT_EQ(static_cast<std::int64_t>(decoded->frames.size()), a.recording->frame_count);
-  for (std::size_t i = 1; i < decoded->frames.size(); ++i)
-    ASSERT_GT(decoded->frames[i].t_s, decoded->frames[i - 1].t_s) << i;
+  ASSERT_GE(decoded.frames.size(), 600u);
+  for (std::size_t i = 1; i < decoded.frames.size(); ++i)
+    ASSERT_GT(decoded.frames[i].t_s, decoded.frames[i - 1].t_s) << i;
   ASSERT_TRUE(a.duration_s.has_value());
   EXPECT_GT(*a.duration_s, 0.0);
-  EXPECT_EQ(*a.duration_s, decoded->frames.back().t_s);
-  EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
   EXPECT_GT(*a.metrics.find("tip_path_length_mm"), 0.0);
   std::printf("[ info     ] killed live attempt: %zu frames (%.3f s), %zu events checkpointed\n",
-              decoded->frames.size(), *a.duration_s, decoded->events.size());
+              decoded.frames.size(), *a.duration_s, decoded.events.size());
   // The stored (and reported) events are the recording's, in order.
   EXPECT_EQ(shown["events"].size(), a.events.size());
-  ASSERT_GE(decoded->events.size(), 1u);
-  EXPECT_EQ(decoded->events[0].kind, EventKind::kInputRejected);
-  ASSERT_EQ(a.events.size(), decoded->events.size());
+  ASSERT_GE(decoded.events.size(), 1u);
+  EXPECT_EQ(decoded.events[0].kind, EventKind::kInputRejected);
+  ASSERT_EQ(a.events.size(), decoded.events.size());
   for (std::size_t i = 0; i < a.events.size(); ++i) {
-    EXPECT_EQ(a.events[i].kind, event_kind_name(decoded->events[i].kind)) << i;
-    EXPECT_EQ(a.events[i].t_s, decoded->events[i].t_s) << i;
+    EXPECT_EQ(a.events[i].kind, event_kind_name(decoded.events[i].kind)) << i;
+    EXPECT_EQ(a.events[i].t_s, decoded.events[i].t_s) << i;
   }
   EXPECT_FALSE(a.score.has_value());
   EXPECT_FALSE(a.passed.has_value());

@@ -376,34 +376,15 @@ TEST(AttemptStore, WriterKilledMidTransactionLeavesAnIntactRecordAndAnAbortedAtt
     Database db = test::open_or_fail(path);
     test::register_curriculum(db, 1);
   }  // no connection open across fork()
-
-  int pipe_fds[2];
-  ASSERT_EQ(pipe(pipe_fds), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    close(pipe_fds[0]);
-    child_killed_mid_transaction(path, pipe_fds[1]);
-  }
-  close(pipe_fds[1]);
-  char ready = 0;
-  const ssize_t got = read(pipe_fds[0], &ready, 1);
-  close(pipe_fds[0]);
-  ASSERT_EQ(kill(child, SIGKILL), 0);
-  int status = 0;
-  ASSERT_EQ(waitpid(child, &status, 0), child);
-  ASSERT_EQ(got, 1) << "child exited early with code "
-                    << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-  ASSERT_TRUE(WIFSIGNALED(status));
+  const test::KilledChild killed =
+      test::kill_when_ready([&](int ready_fd) { child_killed_mid_transaction(path, ready_fd); });
+  ASSERT_TRUE(killed.was_ready);
+  const pid_t child = killed.pid;
 
   // The next program to open the record finds the attempt's writer gone.
   Database db = test::open_or_fail(path);
   EXPECT_EQ(test::integrity_check(db), "ok");
-  DbResult<std::vector<AttemptRecord>> attempts =
-      list_attempts(db, {}, AttemptDetail{true, true, true});
-  ASSERT_TRUE(attempts.ok());
-  ASSERT_EQ(attempts->size(), 1u);
-  const AttemptRecord& a = attempts->front();
+  const AttemptRecord a = test::the_only_attempt(db);
   EXPECT_EQ(a.status, AttemptStatus::kAborted);
   EXPECT_NE(a.abort_reason.find(std::to_string(child)), std::string::npos) << a.abort_reason;
   EXPECT_EQ(a.writer_pid, static_cast<std::int64_t>(child));
@@ -629,45 +610,20 @@ TEST(AttemptStore, SigkillMidAttemptLeavesAnAbortedAttemptWithItsCheckpointedRec
     Database db = test::open_or_fail(path);
     test::register_curriculum(db, 1);
   }  // no connection open across fork()
-  int pipe_fds[2];
-  ASSERT_EQ(pipe(pipe_fds), 0);
-  const pid_t child = fork();
-  ASSERT_GE(child, 0);
-  if (child == 0) {
-    close(pipe_fds[0]);
-    child_checkpointing_until_killed(path, pipe_fds[1]);
-  }
-  close(pipe_fds[1]);
-  char ready = 0;
-  const ssize_t got = read(pipe_fds[0], &ready, 1);
-  close(pipe_fds[0]);
-  std::this_thread::sleep_for(std::chrono::milliseconds(30));  // a few more checkpoints
-  ASSERT_EQ(kill(child, SIGKILL), 0);
-  int status = 0;
-  ASSERT_EQ(waitpid(child, &status, 0), child);
-  ASSERT_EQ(got, 1) << "child exited early with code "
-                    << (WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-  ASSERT_TRUE(WIFSIGNALED(status));
+  // Killed a little after its fourth checkpoint, as it writes more.
+  const test::KilledChild killed =
+      test::kill_when_ready([&](int ready_fd) { child_checkpointing_until_killed(path, ready_fd); },
+                            std::chrono::milliseconds(30));
+  ASSERT_TRUE(killed.was_ready);
 
   Database db = test::open_or_fail(path);  // the next start marks the attempt aborted
   EXPECT_EQ(test::integrity_check(db), "ok");
-  auto attempts = list_attempts(db, {}, AttemptDetail{true, true, true});
-  ASSERT_TRUE(attempts.ok()) << attempts.error().message;
-  ASSERT_EQ(attempts->size(), 1u);
-  const AttemptRecord& a = attempts->front();
-  EXPECT_EQ(a.status, AttemptStatus::kAborted);
+  const AttemptRecord a = test::the_only_attempt(db);
   ASSERT_TRUE(a.recording.has_value());
-  EXPECT_FALSE(a.recording->complete);
   EXPECT_GE(a.recording->frame_count, 2000);
   EXPECT_EQ(a.recording->frame_count % 500, 0);  // whole checkpoints only
-  std::string error;
-  const auto decoded = decode_recording(a.recording->bytes, &error);
-  ASSERT_TRUE(decoded) << error;
-  EXPECT_EQ(static_cast<std::int64_t>(decoded->frames.size()), a.recording->frame_count);
-  // What was recorded and what was measured belong to the same checkpoint.
-  EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
-  EXPECT_EQ(a.duration_s, std::optional<double>(decoded->frames.back().t_s));
-  EXPECT_EQ(a.events.size(), decoded->events.size());
+  const AttemptRecording decoded = test::expect_consistent_checkpointed_recording(a);
+  EXPECT_EQ(a.events.size(), decoded.events.size());
 }
 
 }  // namespace

@@ -3,13 +3,20 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "assessment/metrics.hpp"
+#include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
 #include "db/database.hpp"
@@ -132,6 +139,89 @@ inline std::string minute(int n) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "2024-05-01T09:%02d:00.000Z", n);
   return buffer;
+}
+
+/// A child process that kill_when_ready killed (or that exited before it was ready).
+struct KilledChild {
+  pid_t pid = -1;
+  bool was_ready = false;  ///< the child said it was ready before it was killed
+  int status = 0;          ///< its wait status
+};
+
+/// Forks a child that runs `body(ready_fd)`: it writes one byte to ready_fd when it is where the
+/// test wants it killed, and goes on working (it never returns). Waits for that byte, lets the
+/// child go on for `extra`, kills it with SIGKILL and reaps it. Open no database connection
+/// across the fork.
+template <class Body>
+KilledChild kill_when_ready(Body body, std::chrono::milliseconds extra = {}) {
+  KilledChild out;
+  int fds[2];
+  if (pipe(fds) != 0) {
+    ADD_FAILURE() << "pipe failed";
+    return out;
+  }
+  out.pid = fork();
+  if (out.pid < 0) {
+    ADD_FAILURE() << "fork failed";
+    return out;
+  }
+  if (out.pid == 0) {
+    close(fds[0]);
+    body(fds[1]);
+    _exit(99);  // the body should never return
+  }
+  close(fds[1]);
+  char ready = 0;
+  out.was_ready = read(fds[0], &ready, 1) == 1;
+  close(fds[0]);
+  if (out.was_ready && extra.count() > 0) std::this_thread::sleep_for(extra);
+  kill(out.pid, SIGKILL);
+  waitpid(out.pid, &out.status, 0);
+  EXPECT_TRUE(out.was_ready) << "child exited early with code "
+                             << (WIFEXITED(out.status) ? WEXITSTATUS(out.status) : -1);
+  EXPECT_TRUE(WIFSIGNALED(out.status));
+  return out;
+}
+
+/// The record's one attempt with all its details (a failure is reported when there is not
+/// exactly one).
+inline AttemptRecord the_only_attempt(Database& db) {
+  DbResult<std::vector<AttemptRecord>> attempts =
+      list_attempts(db, {}, AttemptDetail{true, true, true});
+  if (!attempts) {
+    ADD_FAILURE() << attempts.error().message;
+    return {};
+  }
+  if (attempts->size() != 1u) {
+    ADD_FAILURE() << attempts->size() << " attempts in the record (expected one)";
+    return {};
+  }
+  return attempts->front();
+}
+
+/// An aborted attempt keeps what its checkpoints saved, consistently: a partial recording that
+/// decodes, whose recomputed metrics and last frame time are the stored metrics and duration.
+/// Returns the decoded recording (empty on failure).
+inline AttemptRecording expect_consistent_checkpointed_recording(const AttemptRecord& a) {
+  EXPECT_EQ(a.status, AttemptStatus::kAborted);
+  if (!a.recording) {
+    ADD_FAILURE() << "no recording kept";
+    return {};
+  }
+  EXPECT_FALSE(a.recording->complete);
+  std::string error;
+  const std::optional<AttemptRecording> decoded = decode_recording(a.recording->bytes, &error);
+  if (!decoded) {
+    ADD_FAILURE() << error;
+    return {};
+  }
+  EXPECT_EQ(static_cast<std::int64_t>(decoded->frames.size()), a.recording->frame_count);
+  // What was recorded and what was measured belong to the same checkpoint.
+  EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
+  if (!decoded->frames.empty()) {
+    EXPECT_EQ(a.duration_s, std::optional<double>(decoded->frames.back().t_s));
+  }
+  return *decoded;
 }
 
 }  // namespace acdr::test
