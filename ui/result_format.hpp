@@ -5,11 +5,11 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "app/attempt_runner.hpp"
 #include "engine/devices/haptic_loop.hpp"
 #include "engine/devices/udp_device.hpp"
 #include "engine/world/world.hpp"
 #include "scenarios/scenario_model.hpp"
-#include "ui/attempt_runner.hpp"
 
 namespace acdr {
 

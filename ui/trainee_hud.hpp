@@ -12,10 +12,10 @@
 
 #include <imgui.h>
 
+#include "app/attempt_runner.hpp"
+#include "app/live_attempt.hpp"
 #include "engine/devices/haptic_loop.hpp"
 #include "scenarios/scenario_model.hpp"
-#include "ui/attempt_runner.hpp"
-#include "ui/live_attempt.hpp"
 
 namespace acdr {
 

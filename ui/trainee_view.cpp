@@ -15,13 +15,14 @@
 #include "ui/glfw_window.hpp"
 #include <GLFW/glfw3.h>
 
+#include "app/live_attempt.hpp"
 #include "ui/imgui_gl_renderer.hpp"
 #include "ui/imgui_style.hpp"
-#include "ui/live_attempt.hpp"
 #include "ui/mouse_instrument.hpp"
 #include "ui/orbit_camera.hpp"
 #include "ui/png_writer.hpp"
 #include "ui/scene_renderer.hpp"
+#include "ui/scene_snapshot.hpp"
 #include "ui/trainee_hud.hpp"
 
 namespace acdr {

@@ -1,5 +1,5 @@
 // The trainee view: `acdr run SCENARIO` with a display. A GLFW window on the main thread draws
-// the scene at ~60 Hz from the views the haptic thread publishes (ui/live_attempt.hpp), with a
+// the scene at ~60 Hz from the views the haptic thread publishes (app/live_attempt.hpp), with a
 // Dear ImGui overlay (ui/trainee_hud.hpp): module title and goal, time, force gauge, nucleus
 // removed, zone and overload warnings, camera controls; at the end, the score screen. With no
 // device the mouse and keyboard drive the instrument (ui/mouse_instrument.hpp,
@@ -9,12 +9,12 @@
 #include <functional>
 #include <string>
 
+#include "app/attempt_runner.hpp"
+#include "app/live_attempt_checkpoints.hpp"
 #include "engine/devices/haptic_loop.hpp"
 #include "engine/devices/input_device.hpp"
 #include "engine/world/world.hpp"
 #include "scenarios/scenario_model.hpp"
-#include "ui/attempt_runner.hpp"
-#include "ui/live_attempt_checkpoints.hpp"
 
 namespace acdr {
 

@@ -9,18 +9,17 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/app/test_scenes.hpp"
 #include "ui/commands/run_command.hpp"
 
 namespace acdr::test {
-
-inline const std::string kUiData = std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/";
 
 /// Runs one replay attempt of the empty test box into `db`; returns false on failure.
 inline bool add_replay_attempt(const std::string& db, const std::string& trainee,
                                const std::string& trajectory) {
   RunOptions o;
-  o.scenario = kUiData + "empty_box.json";
-  o.input = "replay:" + kUiData + trajectory;
+  o.scenario = kSceneData + "empty_box.json";
+  o.input = "replay:" + kSceneData + trajectory;
   o.trainee = trainee;
   o.db = db;
   o.headless = true;

@@ -19,7 +19,7 @@ using test::Image;
 using test::Rgb;
 
 std::shared_ptr<const ScenarioModel> small_box() {
-  LoadResult loaded = load_scenario_file(test::kUiData + "small_box.json");
+  LoadResult loaded = load_scenario_file(test::kSceneData + "small_box.json");
   EXPECT_TRUE(loaded.ok()) << to_string(loaded.errors);
   return loaded.model;
 }

@@ -29,7 +29,7 @@ test::Image load_png(const std::string& path) {
 
 TEST(TraineeView, WindowRunsTheAttemptAndShowsSceneHudAndScore) {
   if (!display_available()) GTEST_SKIP() << "no DISPLAY (run under xvfb-run to test windows)";
-  LoadResult loaded = load_scenario_file(test::kUiData + "empty_box.json");
+  LoadResult loaded = load_scenario_file(test::kSceneData + "empty_box.json");
   ASSERT_TRUE(loaded.ok());
   const ScenarioModel& scenario = *loaded.model;
   World world(scenario.world);

@@ -9,6 +9,8 @@
 #include <optional>
 #include <ostream>
 
+#include "app/attempt_runner.hpp"
+#include "app/live_attempt.hpp"
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
@@ -16,8 +18,6 @@
 #include "db/progression.hpp"
 #include "engine/devices/udp_device.hpp"
 #include "scenarios/scenario_loader.hpp"
-#include "ui/attempt_runner.hpp"
-#include "ui/live_attempt.hpp"
 #include "ui/offscreen_render.hpp"
 #include "ui/result_format.hpp"
 #include "ui/scene_snapshot.hpp"
@@ -203,7 +203,7 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   bool stored = false;
 
   // A live attempt (window, bridge) writes its checkpoints on a thread of its own
-  // (ui/live_attempt_checkpoints.hpp), through a connection of its own (one per thread,
+  // (app/live_attempt_checkpoints.hpp), through a connection of its own (one per thread,
   // db/database.hpp); the main connection is not used until that thread has ended, when the
   // attempt is stored.
   const bool live_run = windowed || udp != nullptr;

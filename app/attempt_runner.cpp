@@ -1,5 +1,5 @@
 // The attempt loop.
-#include "ui/attempt_runner.hpp"
+#include "app/attempt_runner.hpp"
 
 #include <chrono>
 #include <cmath>

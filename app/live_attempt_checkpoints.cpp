@@ -1,5 +1,5 @@
 // The checkpoint writer thread of a live attempt: see live_attempt_checkpoints.hpp.
-#include "ui/live_attempt_checkpoints.hpp"
+#include "app/live_attempt_checkpoints.hpp"
 
 #include <pthread.h>
 #include <sched.h>

@@ -1,7 +1,7 @@
-// Tests of ui/live_attempt: an attempt stepped on the haptic thread at 1 kHz publishes views
+// Tests of app/live_attempt: an attempt stepped on the haptic thread at 1 kHz publishes views
 // to a reader without being slowed by it, ends on its own or when asked, and closes the same
 // record a run_attempt would.
-#include "ui/live_attempt.hpp"
+#include "app/live_attempt.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 
 #include "engine/devices/trajectory.hpp"
 #include "scenarios/scenario_loader.hpp"
-#include "tests/ui/test_record.hpp"
+#include "tests/app/test_scenes.hpp"
 
 namespace acdr {
 namespace {
@@ -18,7 +18,7 @@ namespace {
 using namespace std::chrono_literals;
 
 std::shared_ptr<const ScenarioModel> empty_box() {
-  LoadResult loaded = load_scenario_file(test::kUiData + "empty_box.json");
+  LoadResult loaded = load_scenario_file(test::kSceneData + "empty_box.json");
   EXPECT_TRUE(loaded.ok()) << to_string(loaded.errors);
   return loaded.model;
 }

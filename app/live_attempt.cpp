@@ -1,5 +1,5 @@
 // Live attempt on the haptic thread.
-#include "ui/live_attempt.hpp"
+#include "app/live_attempt.hpp"
 
 namespace acdr {
 namespace {

@@ -44,7 +44,7 @@ struct CheckpointView {
 using CheckpointSink = std::function<bool(const CheckpointView&)>;
 
 /// The attempt one step at a time, for whoever drives the clock: run_attempt's tight loop, or
-/// the haptic thread of a live attempt (ui/live_attempt.hpp). Each step reads the device,
+/// the haptic thread of a live attempt (app/live_attempt.hpp). Each step reads the device,
 /// steps the world, sends the force back, records the frame and events, and checks the ends.
 class AttemptStepper {
  public:

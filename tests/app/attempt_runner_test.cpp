@@ -1,11 +1,11 @@
 // The attempt loop: ends when the input ends, honours the time limit, and gives bit-identical
 // metrics for the same scenario and input (the determinism guarantee).
-#include "ui/attempt_runner.hpp"
+#include "app/attempt_runner.hpp"
 
 #include <gtest/gtest.h>
 
-#include "engine/world/box_world.hpp"
 #include "engine/devices/trajectory.hpp"
+#include "engine/world/box_world.hpp"
 
 namespace acdr {
 namespace {

@@ -22,7 +22,7 @@
 #include <thread>
 #include <vector>
 
-#include "ui/attempt_runner.hpp"
+#include "app/attempt_runner.hpp"
 
 namespace acdr {
 

@@ -7,7 +7,7 @@
 // published view at ~60 Hz, and a headless run just waits. The haptic thread publishes a view
 // only when one has been asked for, and only if the reader is not copying the previous one
 // at that moment (a try-lock), so rendering never blocks physics. Checkpoints (optional) are
-// written on a thread of their own (ui/live_attempt_checkpoints.hpp): the physics thread only
+// written on a thread of their own (app/live_attempt_checkpoints.hpp): the physics thread only
 // stages each frame and hands the staged part over at each checkpoint time, never waiting.
 #pragma once
 
@@ -17,12 +17,12 @@
 #include <memory>
 #include <vector>
 
+#include "app/attempt_runner.hpp"
+#include "app/live_attempt_checkpoints.hpp"
+#include "app/world_state.hpp"
+#include "engine/core/latest_value.hpp"
 #include "engine/devices/haptic_local_model.hpp"
 #include "engine/devices/haptic_loop.hpp"
-#include "engine/core/latest_value.hpp"
-#include "ui/attempt_runner.hpp"
-#include "ui/live_attempt_checkpoints.hpp"
-#include "ui/scene_snapshot.hpp"
 
 namespace acdr {
 

@@ -1,9 +1,9 @@
-// Tests of ui/live_attempt_checkpoints.cpp and LiveAttempt::set_checkpoints: the physics side
+// Tests of app/live_attempt_checkpoints.cpp and LiveAttempt::set_checkpoints: the physics side
 // never waits for the writer (a hand-over while it is busy is deferred, and its data goes with
 // the next), nothing handed over or staged is lost, a refused checkpoint is carried by the next,
 // the sink runs on a thread of its own, and the checkpoints of a live attempt concatenate into
 // its record.
-#include "ui/live_attempt_checkpoints.hpp"
+#include "app/live_attempt_checkpoints.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,10 +13,10 @@
 #include <mutex>
 #include <thread>
 
+#include "app/live_attempt.hpp"
 #include "engine/devices/trajectory.hpp"
 #include "scenarios/scenario_loader.hpp"
-#include "tests/ui/test_record.hpp"
-#include "ui/live_attempt.hpp"
+#include "tests/app/test_scenes.hpp"
 
 namespace acdr {
 namespace {
@@ -155,7 +155,7 @@ TEST(LiveAttemptCheckpoints, ARefusedCheckpointIsCarriedByTheNext) {
 }
 
 std::shared_ptr<const ScenarioModel> empty_box() {
-  LoadResult loaded = load_scenario_file(test::kUiData + "empty_box.json");
+  LoadResult loaded = load_scenario_file(test::kSceneData + "empty_box.json");
   EXPECT_TRUE(loaded.ok()) << to_string(loaded.errors);
   return loaded.model;
 }
