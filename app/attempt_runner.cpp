@@ -8,7 +8,6 @@
 #include "assessment/metrics.hpp"
 #include "assessment/scoring.hpp"
 #include "engine/devices/trajectory.hpp"
-#include "engine/devices/udp_device.hpp"
 
 namespace acdr {
 
@@ -118,7 +117,8 @@ AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice&
   return stepper.finish(wall);
 }
 
-std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error) {
+std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error,
+                                        double udp_disconnect_timeout_s) {
   const auto colon = spec.find(':');
   const std::string kind = spec.substr(0, colon);
   const std::string arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
@@ -140,6 +140,7 @@ std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* er
     }
     UdpDeviceOptions options;
     options.port = static_cast<int>(port);
+    options.disconnect_timeout_s = udp_disconnect_timeout_s;
     return UdpDevice::open(options, error);
   }
   if (kind == "mouse") {

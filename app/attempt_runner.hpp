@@ -10,6 +10,7 @@
 #include "assessment/attempt_recording.hpp"
 #include "assessment/attempt_result.hpp"
 #include "engine/devices/input_device.hpp"
+#include "engine/devices/udp_device.hpp"
 #include "engine/world/world.hpp"
 #include "scenarios/scenario_model.hpp"
 
@@ -92,9 +93,12 @@ AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice&
                        CheckpointSink checkpoint_sink);
 
 /// Opens an input source from its command-line spelling: "replay:FILE.csv", or
-/// "udp:PORT" for a haptic bridge on loopback (engine/devices/udp_device.hpp). ("mouse" needs a window
-/// and is opened by the trainee view.) Returns null with `error` set when the spelling or the
+/// "udp:PORT" for a haptic bridge on loopback (engine/devices/udp_device.hpp), which ends the
+/// attempt as disconnected after `udp_disconnect_timeout_s` without a packet. ("mouse" needs a
+/// window and is opened by the view.) Returns null with `error` set when the spelling or the
 /// file is wrong or the port cannot be bound.
-std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error);
+std::unique_ptr<InputDevice> open_input(
+    const std::string& spec, std::string* error,
+    double udp_disconnect_timeout_s = UdpDeviceOptions{}.disconnect_timeout_s);
 
 }  // namespace acdr

@@ -10,6 +10,16 @@
 #include "engine/core/state_hash.hpp"
 
 namespace acdr {
+namespace {
+
+// The parts of a session's result every line below reads.
+struct ResultView {
+  const ScenarioModel& scenario;
+  const AttemptRun& run;
+  const World& world;
+};
+
+}  // namespace
 
 nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
   int clamped = 0, lost = 0, rejected = 0;
@@ -71,7 +81,8 @@ nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
   return j;
 }
 
-nlohmann::json result_json(const ResultContext& c) {
+nlohmann::json result_json(const SessionResult& result, const std::string& png_path) {
+  const ResultView c{*result.scenario, result.run, *result.world};
   nlohmann::json j;
   j["scenario"] = c.scenario.path;
   j["scenario_hash"] = c.scenario.hash;
@@ -123,15 +134,31 @@ nlohmann::json result_json(const ResultContext& c) {
     events.push_back({{"t_s", e.t_s}, {"kind", event_kind_name(e.kind)}, {"value", e.value},
                       {"detail", e.detail}});
   j["events"] = events;
-  if (c.haptics) j["haptics"] = haptics_json(*c.haptics, c.run);
-  j["stored_as"] = c.stored_as;
-  j["attempt_id"] = c.attempt_id;
-  j["db"] = c.db_path;
-  if (!c.png_path.empty()) j["png"] = c.png_path;
+  if (result.haptics) j["haptics"] = haptics_json(*result.haptics, c.run);
+  j["stored_as"] = result.stored_as;
+  j["attempt_id"] = result.attempt_id;
+  j["db"] = result.db_path;
+  if (!png_path.empty()) j["png"] = png_path;
+  if (result.checkpoints) {
+    // What the checkpoints cost: on the writer thread per checkpoint, and on the physics
+    // thread per hand-over (haptics.physics has the physics loop's step times).
+    const LiveCheckpointStats& s = result.checkpoints->stats;
+    j["checkpoints"] = {{"every_s", result.checkpoints->every_s},
+                        {"saved", s.saved},
+                        {"failed", s.failed},
+                        {"deferred", s.deferred},
+                        {"frames_saved", s.frames_saved},
+                        {"largest_frames", s.largest_frames},
+                        {"write_mean_ms", s.write_mean_ms},
+                        {"write_max_ms", s.write_max_ms},
+                        {"handover_max_ms", s.handover_max_ms},
+                        {"writer_background_priority", s.background_priority}};
+  }
   return j;
 }
 
-std::string result_summary(const ResultContext& c) {
+std::string result_summary(const SessionResult& result, const std::string& png_path) {
+  const ResultView c{*result.scenario, result.run, *result.world};
   std::string s;
   char line[256];
   auto metric = [&](const char* name) {
@@ -203,23 +230,23 @@ std::string result_summary(const ResultContext& c) {
                 c.scenario.rubric.pass_score, c.run.score.passed ? "PASSED" : "NOT PASSED");
   s += line;
   for (const std::string& r : c.run.score.reasons) s += "    - " + r + "\n";
-  if (c.haptics) {
-    const HapticLoopStats& h = c.haptics->loop;
+  if (result.haptics) {
+    const HapticLoopStats& h = result.haptics->loop;
     std::snprintf(line, sizeof line,
                   "  haptic loop            %8.1f Hz (target %.0f), period p99 %.3f ms, "
                   "%lld overruns\n",
                   h.rate_hz, h.target_rate_hz, h.period_p99_ms, static_cast<long long>(h.overruns));
     s += line;
-    if (c.haptics->decoupled) {
-      const HapticLoopStats& p = c.haptics->physics;
+    if (result.haptics->decoupled) {
+      const HapticLoopStats& p = result.haptics->physics;
       std::snprintf(line, sizeof line,
                     "  physics loop           %8.1f Hz (target %.0f), step mean %.3f ms, p99 "
                     "%.3f ms, max %.3f ms\n",
                     p.rate_hz, p.target_rate_hz, p.work_mean_ms, p.work_p99_ms, p.work_max_ms);
       s += line;
     }
-    if (c.haptics->has_link) {
-      const UdpDeviceStats& l = c.haptics->link;
+    if (result.haptics->has_link) {
+      const UdpDeviceStats& l = result.haptics->link;
       std::snprintf(line, sizeof line,
                     "  bridge %s: %lld packets, %lld lost, %lld malformed, max force sent "
                     "%.3f N\n",
@@ -230,9 +257,19 @@ std::string result_summary(const ResultContext& c) {
     }
   }
   std::snprintf(line, sizeof line, "  stored as attempt %lld (%s) in %s\n",
-                static_cast<long long>(c.attempt_id), c.stored_as.c_str(), c.db_path.c_str());
+                static_cast<long long>(result.attempt_id), result.stored_as.c_str(),
+                result.db_path.c_str());
   s += line;
-  if (!c.png_path.empty()) s += "  picture of the final frame: " + c.png_path + "\n";
+  if (!png_path.empty()) s += "  picture of the final frame: " + png_path + "\n";
+  if (result.checkpoints) {
+    const LiveCheckpointStats& k = result.checkpoints->stats;
+    std::snprintf(line, sizeof line,
+                  "  checkpoints            %lld saved every %g s (writer thread: mean %.1f "
+                  "ms, max %.1f ms; %lld deferred)\n",
+                  static_cast<long long>(k.saved), result.checkpoints->every_s, k.write_mean_ms,
+                  k.write_max_ms, static_cast<long long>(k.deferred));
+    s += line;
+  }
   return s;
 }
 
