@@ -1,13 +1,13 @@
 // The body of `acdr verify`: load case files (if any), run, print the table or JSON.
-#include "ui/commands/verify_command.hpp"
+#include "cli/verify_command.hpp"
 
 #include <cmath>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
-#include "verification/verification_case.hpp"
 #include "scenarios/verification_case_file.hpp"
+#include "verification/verification_case.hpp"
 
 namespace acdr {
 namespace {

@@ -1,12 +1,12 @@
 // `acdr run`: the attempt session with the trainee view as its window, then the picture of the
 // final frame and the report.
-#include "ui/commands/run_command.hpp"
+#include "cli/run_command.hpp"
 
 #include <memory>
 #include <ostream>
 
+#include "cli/result_format.hpp"
 #include "ui/offscreen_render.hpp"
-#include "ui/result_format.hpp"
 #include "ui/scene_snapshot.hpp"
 #include "ui/trainee_view.hpp"
 

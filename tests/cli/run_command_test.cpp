@@ -1,11 +1,11 @@
-// Tests of ui/commands/run_command.cpp driven through the UDP haptic bridge on loopback by the
+// Tests of cli/run_command.cpp driven through the UDP haptic bridge on loopback by the
 // virtual device (engine/devices/virtual_bridge.hpp), as `acdr run --input udp:PORT` with `acdr
 // device-sim`: the attempt completes and reports its haptics, its row exists before the first
 // packet, device faults are recorded, and a silent or absent device ends the attempt.
 //
 // The scene is the test box without material (tests/ui/data/empty_box.json), so that the
 // physics step is far below 1 ms and the 1 kHz loop is reachable on a loaded machine.
-#include "ui/commands/run_command.hpp"
+#include "cli/run_command.hpp"
 
 #include <gtest/gtest.h>
 

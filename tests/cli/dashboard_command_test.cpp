@@ -1,7 +1,7 @@
-// Tests of ui/commands/dashboard_command.cpp: `acdr dashboard --screenshot` draws a legible,
+// Tests of cli/dashboard_command.cpp: `acdr dashboard --screenshot` draws a legible,
 // non-blank dashboard of a real record (text, state colours, the plots), `--export-csv`
 // writes the selected view, and bad options are reported.
-#include "ui/commands/dashboard_command.hpp"
+#include "cli/dashboard_command.hpp"
 
 #include <gtest/gtest.h>
 #include <stb_image.h>

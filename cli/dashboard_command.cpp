@@ -1,5 +1,5 @@
 // `acdr dashboard`.
-#include "ui/commands/dashboard_command.hpp"
+#include "cli/dashboard_command.hpp"
 
 #include <chrono>
 #include <filesystem>

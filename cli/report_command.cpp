@@ -1,5 +1,5 @@
 // `acdr report`: see report_command.hpp.
-#include "ui/commands/report_command.hpp"
+#include "cli/report_command.hpp"
 
 #include "db/attempt_store.hpp"
 #include "db/database.hpp"

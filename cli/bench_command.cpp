@@ -1,5 +1,5 @@
 // Formatting of `acdr bench`: table, JSON, CSV and the PNG plot around the bench library.
-#include "ui/commands/bench_command.hpp"
+#include "cli/bench_command.hpp"
 
 #include <cstdio>
 #include <cstdlib>

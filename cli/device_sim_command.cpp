@@ -1,5 +1,5 @@
 // `acdr device-sim`.
-#include "ui/commands/device_sim_command.hpp"
+#include "cli/device_sim_command.hpp"
 
 #include <cstdio>
 #include <fstream>

@@ -1,5 +1,5 @@
 // `acdr render`: build the scenario's world and draw it at t = 0.
-#include "ui/commands/render_command.hpp"
+#include "cli/render_command.hpp"
 
 #include <ostream>
 

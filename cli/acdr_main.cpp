@@ -3,17 +3,17 @@
 
 #include <iostream>
 
-#include "ui/commands/bench_command.hpp"
-#include "ui/commands/dashboard_command.hpp"
-#include "ui/commands/device_sim_command.hpp"
-#include "ui/commands/make_trajectory_command.hpp"
-#include "ui/commands/render_command.hpp"
-#include "ui/commands/report_command.hpp"
-#include "ui/commands/rescore_command.hpp"
-#include "ui/commands/run_command.hpp"
-#include "ui/commands/stress_command.hpp"
-#include "ui/commands/validate_command.hpp"
-#include "ui/commands/verify_command.hpp"
+#include "cli/bench_command.hpp"
+#include "cli/dashboard_command.hpp"
+#include "cli/device_sim_command.hpp"
+#include "cli/make_trajectory_command.hpp"
+#include "cli/render_command.hpp"
+#include "cli/report_command.hpp"
+#include "cli/rescore_command.hpp"
+#include "cli/run_command.hpp"
+#include "cli/stress_command.hpp"
+#include "cli/validate_command.hpp"
+#include "cli/verify_command.hpp"
 
 
 int main(int argc, char** argv) {

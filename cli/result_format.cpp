@@ -1,5 +1,5 @@
 // Result formatting.
-#include "ui/result_format.hpp"
+#include "cli/result_format.hpp"
 
 #include <algorithm>
 #include <cstdio>

@@ -1,5 +1,5 @@
 // The body of `acdr validate`: the loader does the work; this prints its verdict per file.
-#include "ui/commands/validate_command.hpp"
+#include "cli/validate_command.hpp"
 
 #include "scenarios/scenario_loader.hpp"
 

@@ -1,6 +1,6 @@
-// Tests of ui/commands/report_command.cpp: exit codes, no database created by a report, and
+// Tests of cli/report_command.cpp: exit codes, no database created by a report, and
 // an attempt left running by a killed program reported as aborted.
-#include "ui/commands/report_command.hpp"
+#include "cli/report_command.hpp"
 
 #include <gtest/gtest.h>
 

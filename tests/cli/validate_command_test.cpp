@@ -1,5 +1,5 @@
 // `acdr validate`: OK lines for good files, every error for bad ones, and the exit status.
-#include "ui/commands/validate_command.hpp"
+#include "cli/validate_command.hpp"
 
 #include <cstdio>
 #include <filesystem>

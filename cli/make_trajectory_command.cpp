@@ -1,4 +1,5 @@
-#include "ui/commands/make_trajectory_command.hpp"
+// `acdr make-trajectory`: a waypoint CSV sampled into a minimum-jerk trajectory CSV.
+#include "cli/make_trajectory_command.hpp"
 
 #include <fstream>
 #include <ostream>

@@ -1,5 +1,5 @@
 // `acdr verify` and `acdr stress` bodies: exit codes and output formats.
-#include "ui/commands/verify_command.hpp"
+#include "cli/verify_command.hpp"
 
 #include <cstdio>
 #include <fstream>

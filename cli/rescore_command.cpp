@@ -1,7 +1,7 @@
 // Re-scoring: metrics come from the recording alone (assessment never reads engine internals),
 // so a stored attempt can be judged again under a newer rubric. An aborted attempt's metrics
 // are re-computed from its checkpointed recording; it is never scored.
-#include "ui/commands/rescore_command.hpp"
+#include "cli/rescore_command.hpp"
 
 #include <cstdio>
 #include <map>

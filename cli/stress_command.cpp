@@ -1,5 +1,5 @@
 // The body of `acdr stress`: run the built-in sweep and print the figures.
-#include "ui/commands/stress_command.hpp"
+#include "cli/stress_command.hpp"
 
 #include <cstdio>
 
