@@ -1,25 +1,12 @@
-// `acdr dashboard`.
+// `acdr dashboard`: open the record, select what the options ask for, then write the CSV, the
+// picture, or open the window (ui/dashboard_window.hpp).
 #include "cli/dashboard_command.hpp"
 
-#include <chrono>
-#include <filesystem>
-#include <fstream>
 #include <ostream>
-#include <thread>
-
-#include <imgui.h>
-#include <backends/imgui_impl_glfw.h>
 
 #include "ui/dashboard_model.hpp"
-#include "ui/dashboard_view.hpp"
-#include "ui/imgui_gl_renderer.hpp"
-#include "ui/imgui_offscreen.hpp"
-#include "ui/imgui_style.hpp"
-#include "ui/png_writer.hpp"
-#include "ui/trainee_view.hpp"
-// Our GL header (via glfw_window.hpp) before GLFW's.
-#include "ui/glfw_window.hpp"
-#include <GLFW/glfw3.h>
+#include "ui/dashboard_window.hpp"
+#include "ui/display.hpp"
 
 namespace acdr {
 namespace {
@@ -55,94 +42,6 @@ bool select(const DashboardModel& model, const DashboardOptions& o, DashboardSel
   return true;
 }
 
-bool write_text(const std::string& path, const std::string& text, std::string* error) {
-  std::ofstream file(path, std::ios::binary);
-  file << text;
-  if (!file) {
-    *error = path + ": cannot write";
-    return false;
-  }
-  return true;
-}
-
-int run_window(const DashboardOptions& options, Database& db, DashboardModel model,
-               DashboardSelection sel, std::unique_ptr<AttemptDrillDown> attempt,
-               std::ostream& err) {
-  GlfwWindowOptions wo;
-  wo.width = options.width;
-  wo.height = options.height;
-  wo.title = "ACDR Trainer - instructor dashboard";
-  std::string error;
-  auto window = GlfwWindow::create(wo, &error);
-  if (!window) {
-    err << "cannot open the dashboard window: " << error << "\n";
-    return 2;
-  }
-  ImGuiContext* context = ImGui::CreateContext();
-  ImGui::SetCurrentContext(context);
-  ImGui::GetIO().IniFilename = nullptr;
-  setup_imgui_style(16.0f);
-  ImGui_ImplGlfw_InitForOpenGL(window->handle(), true);
-  auto renderer = ImGuiGlRenderer::create(window->gl(), &error);
-  if (!renderer) {
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext(context);
-    err << "cannot draw the dashboard: " << error << "\n";
-    return 2;
-  }
-  std::string status = "Select a trainee, a module cell or an attempt.";
-  auto last_refresh = std::chrono::steady_clock::now();
-  const GlFunctions& gl = window->gl();
-  while (!window->should_close()) {
-    const auto frame_start = std::chrono::steady_clock::now();
-    GlfwWindow::poll_events();
-    ImGui_ImplGlfw_NewFrame();
-    ImGui::NewFrame();
-    DashboardActions actions;
-    draw_dashboard(model, sel, attempt.get(), status, ImGui::GetIO().DisplaySize, &actions);
-    ImGui::Render();
-    int w = 0, h = 0;
-    window->framebuffer_size(&w, &h);
-    gl.Viewport(0, 0, w, h);
-    gl.ClearColor(0.10f, 0.105f, 0.12f, 1.0f);
-    gl.Clear(GL_COLOR_BUFFER_BIT);
-    renderer->render(ImGui::GetDrawData(), w, h);
-    window->swap_buffers();
-
-    // Readers and a running attempt share the file (WAL): refresh every few seconds.
-    if (actions.refresh ||
-        std::chrono::steady_clock::now() - last_refresh > std::chrono::seconds(5)) {
-      if (auto fresh = load_dashboard(db)) {
-        model = std::move(fresh.value());
-        if (actions.refresh) status = "Refreshed.";
-      } else {
-        status = fresh.error().message;
-      }
-      last_refresh = std::chrono::steady_clock::now();
-    }
-    if (actions.attempt_changed || (sel.attempt_id > 0 && (!attempt || attempt->record.id != sel.attempt_id))) {
-      attempt.reset();
-      if (sel.attempt_id > 0) {
-        attempt = load_drill_down(db, sel.attempt_id, &error);
-        if (!attempt) status = error;
-      }
-    }
-    if (actions.export_csv) {
-      const std::string path =
-          (std::filesystem::path(options.export_dir) / dashboard_csv_name(sel, attempt.get()))
-              .string();
-      status = write_text(path, dashboard_csv(model, sel, attempt.get()), &error)
-                   ? "Exported " + path
-                   : error;
-    }
-    std::this_thread::sleep_until(frame_start + std::chrono::microseconds(16667));
-  }
-  renderer.reset();
-  ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext(context);
-  return 0;
-}
-
 }  // namespace
 
 int run_dashboard(const DashboardOptions& options, std::ostream& out, std::ostream& err) {
@@ -175,7 +74,7 @@ int run_dashboard(const DashboardOptions& options, std::ostream& out, std::ostre
   }
 
   if (!options.export_csv.empty()) {
-    if (!write_text(options.export_csv, dashboard_csv(model.value(), sel, attempt.get()), &error)) {
+    if (!write_dashboard_csv(model.value(), sel, attempt.get(), options.export_csv, &error)) {
       err << error << "\n";
       return 2;
     }
@@ -183,32 +82,9 @@ int run_dashboard(const DashboardOptions& options, std::ostream& out, std::ostre
     if (options.screenshot.empty()) return 0;
   }
   if (!options.screenshot.empty()) {
-    ImGuiOffscreenOptions look;
-    look.settle_frames = 4;
-    std::unique_ptr<ImGuiOffscreen> ui =
-        ImGuiOffscreen::create(options.width, options.height, &error, look);
-    if (!ui) {
+    if (!write_dashboard_png(model.value(), sel, attempt.get(), options.width, options.height,
+                             options.screenshot, &error)) {
       err << error << "\n";
-      return 2;
-    }
-    // The dashboard's own style (the offscreen context starts with ImGui's defaults).
-    ImGuiContext* previous = ImGui::GetCurrentContext();
-    ImGui::SetCurrentContext(ui->imgui_context());
-    ImGuiStyle& style = ImGui::GetStyle();
-    style.WindowRounding = 4.0f;
-    style.FrameRounding = 3.0f;
-    style.ItemSpacing = ImVec2(8, 5);
-    ImGui::SetCurrentContext(previous);
-    std::vector<std::uint8_t> rgb;
-    const bool ok = ui->render(
-        nullptr,
-        [&] {
-          draw_dashboard(model.value(), sel, attempt.get(), "", ImGui::GetIO().DisplaySize,
-                         nullptr);
-        },
-        &rgb, &error);
-    if (!ok || !write_png_rgb(options.screenshot, options.width, options.height, rgb, &error)) {
-      err << options.screenshot << ": " << error << "\n";
       return 2;
     }
     out << "wrote " << options.screenshot << "\n";
@@ -218,7 +94,13 @@ int run_dashboard(const DashboardOptions& options, std::ostream& out, std::ostre
     err << "acdr dashboard needs a display for its window (or use --screenshot FILE)\n";
     return 2;
   }
-  return run_window(options, db.value(), std::move(model.value()), sel, std::move(attempt), err);
+  const DashboardWindowOptions window{options.width, options.height, options.export_dir};
+  if (!run_dashboard_window(window, db.value(), std::move(model.value()), sel,
+                            std::move(attempt), &error)) {
+    err << error << "\n";
+    return 2;
+  }
+  return 0;
 }
 
 }  // namespace acdr

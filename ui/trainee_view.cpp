@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <memory>
 #include <thread>
 
@@ -15,6 +14,7 @@
 #include "ui/glfw_window.hpp"
 #include <GLFW/glfw3.h>
 
+#include "ui/display.hpp"
 #include "ui/imgui_gl_renderer.hpp"
 #include "ui/imgui_style.hpp"
 #include "ui/mouse_instrument.hpp"
@@ -176,12 +176,6 @@ struct TraineeView::Window {
 
 TraineeView::TraineeView(TraineeViewOptions options) : options_(std::move(options)) {}
 TraineeView::~TraineeView() = default;
-
-bool display_available() {
-  const char* x = std::getenv("DISPLAY");
-  const char* wayland = std::getenv("WAYLAND_DISPLAY");
-  return (x && *x) || (wayland && *wayland);
-}
 
 bool TraineeView::can_open() const { return display_available(); }
 

@@ -53,7 +53,4 @@ class TraineeView final : public AttemptView {
   std::string picture_error_;
 };
 
-/// True when a window can probably be opened (DISPLAY or WAYLAND_DISPLAY set).
-bool display_available();
-
 }  // namespace acdr

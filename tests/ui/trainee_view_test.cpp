@@ -12,6 +12,7 @@
 #include "tests/app/test_scenes.hpp"
 #include "tests/db/db_test_support.hpp"
 #include "tests/ui/image_probe.hpp"
+#include "ui/display.hpp"
 
 namespace acdr {
 namespace {
