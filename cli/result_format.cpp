@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/score_table.hpp"
 #include "assessment/metric_catalog.hpp"
 #include "engine/core/state_hash.hpp"
 
@@ -216,14 +217,14 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
     }
   }
   s += "  score by metric:\n";
-  for (const TermScore& t : c.run.score.terms) {
-    std::snprintf(line, sizeof line, "    %-28s %10.4g  -> %5.1f / 100\n", t.metric.c_str(),
-                  t.value, t.score);
-    s += line;
-  }
-  for (const GateResult& g : c.run.score.gates) {
-    std::snprintf(line, sizeof line, "    gate %-23s %10.4g  (max %g) %s\n", g.metric.c_str(),
-                  g.value, g.max, g.passed ? "ok" : "FAILED");
+  for (const ScoreTableRow& row :
+       score_table(c.run.metrics, c.run.score, &c.scenario.rubric, ScoreTableScope::kAssessed)) {
+    if (row.judgement == MetricJudgement::kScored)
+      std::snprintf(line, sizeof line, "    %-28s %10.4g  -> %5.1f / 100\n", row.metric.c_str(),
+                    row.value, row.score);
+    else
+      std::snprintf(line, sizeof line, "    gate %-23s %10.4g  (max %g) %s\n",
+                    row.metric.c_str(), row.value, row.gate_max, row.good ? "ok" : "FAILED");
     s += line;
   }
   std::snprintf(line, sizeof line, "  SCORE %.1f / 100 (pass at %.0f): %s\n", c.run.score.score,

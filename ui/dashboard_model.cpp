@@ -141,6 +141,8 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   auto d = std::make_unique<AttemptDrillDown>();
   d->record = std::move(*loaded.value());
   load_scenario_parts(db, *d);
+  d->metric_rows = score_table(d->record.metrics, d->record.score_detail,
+                               d->rubric ? &*d->rubric : nullptr, ScoreTableScope::kAllMetrics);
   if (!d->record.recording) {
     d->recording_error = "no recording stored (the attempt was " +
                          std::string(attempt_status_name(d->record.status)) + ")";

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "app/score_table.hpp"
 #include "assessment/attempt_recording.hpp"
 #include "assessment/rubric.hpp"
 #include "db/database.hpp"
@@ -82,6 +83,8 @@ struct AttemptDrillDown {
   std::optional<Rubric> rubric;
   ReplayGeometry replay;
   std::string scenario_error;
+  /// Every recorded metric against its benchmark, as the attempt was scored.
+  std::vector<ScoreTableRow> metric_rows;
 
   /// Index of the last frame at or before time t (0 when none).
   std::size_t frame_at(double t_s) const;

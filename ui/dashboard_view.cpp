@@ -8,6 +8,7 @@
 
 #include "ui/imgui_style.hpp"
 #include "ui/plot_widgets.hpp"
+#include "ui/score_table_view.hpp"
 
 namespace acdr {
 namespace {
@@ -250,54 +251,7 @@ void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
 // ---- drill-down pieces -----------------------------------------------------------------------
 void draw_metrics_table(const AttemptDrillDown& d) {
   ImGui::TextUnformatted("Metrics against benchmarks");
-  if (ImGui::BeginTable("metrics", 4,
-                        ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
-                            ImGuiTableFlags_SizingStretchProp)) {
-    ImGui::TableSetupColumn("metric", ImGuiTableColumnFlags_WidthStretch, 2.2f);
-    ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.9f);
-    ImGui::TableSetupColumn("benchmark", ImGuiTableColumnFlags_WidthStretch, 1.6f);
-    ImGui::TableSetupColumn("score", ImGuiTableColumnFlags_WidthStretch, 0.7f);
-    ImGui::TableHeadersRow();
-    const ScoreResult& score = d.record.score_detail;
-    for (const auto& [name, value] : d.record.metrics.values) {
-      const TermScore* term = nullptr;
-      for (const TermScore& t : score.terms)
-        if (t.metric == name) term = &t;
-      const GateResult* gate = nullptr;
-      for (const GateResult& g : score.gates)
-        if (g.metric == name) gate = &g;
-      const RubricTerm* rubric = nullptr;
-      if (d.rubric)
-        for (const RubricTerm& r : d.rubric->terms)
-          if (r.metric == name) rubric = &r;
-      // Scored and gated metrics first would need sorting; instead highlight them.
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      const bool assessed = term || gate;
-      if (assessed)
-        ImGui::TextUnformatted(metric_label(name).c_str());
-      else
-        ImGui::TextColored(ui_colors::kMuted, "%s", metric_label(name).c_str());
-      ImGui::TableNextColumn();
-      ImGui::Text("%.4g", value);
-      ImGui::TableNextColumn();
-      if (rubric)
-        ImGui::Text("%.3g ± %.2g %s", rubric->expert_mean, rubric->expert_sd,
-                    rubric->higher_is_better ? "(higher better)" : "(lower better)");
-      else if (gate)
-        ImGui::Text("at most %.3g", gate->max);
-      else if (term)
-        ImGui::TextColored(ui_colors::kMuted, "scenario not found");
-      ImGui::TableNextColumn();
-      if (term)
-        ImGui::TextColored(term->score >= 50 ? ui_colors::kOk : ui_colors::kWarning, "%.0f",
-                           term->score);
-      else if (gate)
-        ImGui::TextColored(gate->passed ? ui_colors::kOk : ui_colors::kDanger, "%s",
-                           gate->passed ? "held" : "FAILED");
-    }
-    ImGui::EndTable();
-  }
+  draw_score_table("metrics", d.metric_rows);
   for (const std::string& r : d.record.score_detail.reasons)
     ImGui::TextColored(ui_colors::kWarning, "- %s", r.c_str());
 }
