@@ -2,6 +2,7 @@
 #include "app/attempt_session.hpp"
 
 #include <fstream>
+#include <optional>
 #include <ostream>
 
 #include "app/live_attempt.hpp"
@@ -15,11 +16,11 @@
 namespace acdr {
 namespace {
 
-SessionResult refused(SessionResult result, std::string error,
-                      SessionEnd end = SessionEnd::kBadInput) {
+// Marks the session refused, with why. Returns false (a step that refuses returns it).
+bool refuse(SessionResult& result, std::string error, SessionEnd end = SessionEnd::kBadInput) {
   result.end = end;
   result.error = std::move(error);
-  return result;
+  return false;
 }
 
 // The sink that saves an attempt's checkpoints through `writer` (which must outlive it).
@@ -48,6 +49,75 @@ std::string register_module(Database& db, const ScenarioModel& scenario) {
   module.consecutive_passes_required = scenario.rubric.consecutive_passes_to_master;
   if (auto registered = upsert_module(db, module); !registered) return registered.error().message;
   return {};
+}
+
+// The record: opened, the module registered, the progression gate checked, the attempt begun
+// (its row exists from the start, status running, so a crash leaves a trace). Sets db_path and
+// attempt_id of `result`; nullopt when refused (`result` says why).
+std::optional<Database> begin_in_record(const SessionOptions& options,
+                                        const ScenarioModel& scenario, SessionResult& result) {
+  result.db_path = options.db.empty() ? default_database_path() : options.db;
+  auto db = open_store(result.db_path);
+  if (!db) {
+    refuse(result, db.error().message);
+    return std::nullopt;
+  }
+  if (std::string e = register_module(db.value(), scenario); !e.empty()) {
+    refuse(result, e);
+    return std::nullopt;
+  }
+  // Proficiency-based progression: a trainee may take a module once its prerequisites are
+  // mastered, unless an instructor overrides (recorded with the attempt). Practice attempts
+  // (no trainee) are never locked.
+  if (options.override_lock && options.override_by.empty()) {
+    refuse(result, "--override needs --override-by NAME (who decided)");
+    return std::nullopt;
+  }
+  if (options.trainee && !options.override_lock) {
+    auto decision = check_unlocked(db.value(), *options.trainee, scenario.id);
+    if (!decision) {
+      refuse(result, decision.error().message);
+      return std::nullopt;
+    }
+    // The reason already names the module, the trainee and what is missing.
+    if (!decision.value().unlocked) {
+      refuse(result, decision.value().reason + " with --override --override-by NAME",
+             SessionEnd::kLocked);
+      return std::nullopt;
+    }
+  }
+  AttemptStart start;
+  start.override_lock = options.override_lock;
+  start.override_by = options.override_by;
+  start.override_reason = options.override_reason;
+  start.trainee_id = options.trainee;
+  start.module_id = scenario.id;
+  start.input_device = options.input;
+  start.program_version = ACDR_VERSION_STRING;
+  start.scenario_hash = scenario.hash;
+  auto attempt_id = begin_attempt(db.value(), start);
+  if (!attempt_id) {
+    refuse(result, attempt_id.error().message);
+    return std::nullopt;
+  }
+  result.attempt_id = attempt_id.value();
+  return std::move(db.value());
+}
+
+// A bridge-driven attempt starts with the bridge's first packet; without one in time the
+// attempt is stored as aborted. Returns false when refused (`result` says why).
+bool wait_for_bridge(UdpDevice& udp, const SessionOptions& options, Database& db,
+                     SessionResult& result, std::ostream& notes) {
+  if (!options.quiet)
+    notes << "waiting for the device bridge on udp:" << udp.port() << " (up to "
+          << options.device_timeout_s << " s)\n";
+  if (udp.wait_for_connection(options.device_timeout_s)) return true;
+  const std::string reason = "no packet from the device bridge on udp:" +
+                             std::to_string(udp.port()) + " within " +
+                             std::to_string(options.device_timeout_s) + " s";
+  (void)abort_attempt(db, result.attempt_id, reason);
+  return refuse(result, reason + " (attempt " + std::to_string(result.attempt_id) +
+                            " stored as aborted)");
 }
 
 // Stores the run: finished in one transaction (with the recording, also written to
@@ -141,15 +211,17 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   if (!loaded.ok()) {
     std::string errors = to_string(loaded.errors);
     if (!errors.empty() && errors.back() == '\n') errors.pop_back();
-    return refused(std::move(result), errors);
+    refuse(result, errors);
+    return result;
   }
   result.scenario = loaded.model;
   const ScenarioModel& scenario = *result.scenario;
   const bool mouse = options.input == "mouse";
   if (view && !view->can_open()) {
-    if (mouse)
-      return refused(std::move(result),
-                     "--input mouse needs a window, and there is no display (DISPLAY is not set)");
+    if (mouse) {
+      refuse(result, "--input mouse needs a window, and there is no display (DISPLAY is not set)");
+      return result;
+    }
     notes << "note: no display, running headless\n";
     view = nullptr;
   }
@@ -157,75 +229,35 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   std::unique_ptr<InputDevice> device;
   if (!(mouse && view)) {
     device = open_input(options.input, &error, options.device_timeout_s);
-    if (!device) return refused(std::move(result), error);
+    if (!device) {
+      refuse(result, error);
+      return result;
+    }
   }
   auto* udp = dynamic_cast<UdpDevice*>(device.get());
 
-  // The record: the attempt row exists from the start (status running).
-  result.db_path = options.db.empty() ? default_database_path() : options.db;
-  auto db = open_store(result.db_path);
-  if (!db) return refused(std::move(result), db.error().message);
-  if (std::string e = register_module(db.value(), scenario); !e.empty())
-    return refused(std::move(result), e);
-  // Proficiency-based progression: a trainee may take a module once its prerequisites are
-  // mastered, unless an instructor overrides (recorded with the attempt). Practice attempts
-  // (no trainee) are never locked.
-  if (options.override_lock && options.override_by.empty())
-    return refused(std::move(result), "--override needs --override-by NAME (who decided)");
-  if (options.trainee && !options.override_lock) {
-    auto decision = check_unlocked(db.value(), *options.trainee, scenario.id);
-    if (!decision) return refused(std::move(result), decision.error().message);
-    // The reason already names the module, the trainee and what is missing.
-    if (!decision.value().unlocked)
-      return refused(std::move(result),
-                     decision.value().reason + " with --override --override-by NAME",
-                     SessionEnd::kLocked);
-  }
-  AttemptStart start;
-  start.override_lock = options.override_lock;
-  start.override_by = options.override_by;
-  start.override_reason = options.override_reason;
-  start.trainee_id = options.trainee;
-  start.module_id = scenario.id;
-  start.input_device = options.input;
-  start.program_version = ACDR_VERSION_STRING;
-  start.scenario_hash = scenario.hash;
-  auto attempt_id = begin_attempt(db.value(), start);
-  if (!attempt_id) return refused(std::move(result), attempt_id.error().message);
-  result.attempt_id = attempt_id.value();
-
-  // A bridge-driven attempt starts with the bridge's first packet.
-  if (udp) {
-    if (!options.quiet)
-      notes << "waiting for the device bridge on udp:" << udp->port() << " (up to "
-            << options.device_timeout_s << " s)\n";
-    if (!udp->wait_for_connection(options.device_timeout_s)) {
-      const std::string reason = "no packet from the device bridge on udp:" +
-                                 std::to_string(udp->port()) + " within " +
-                                 std::to_string(options.device_timeout_s) + " s";
-      (void)abort_attempt(db.value(), result.attempt_id, reason);
-      return refused(std::move(result), reason + " (attempt " +
-                                            std::to_string(result.attempt_id) +
-                                            " stored as aborted)");
-    }
-  }
+  // The record, then the device's first packet.
+  auto db = begin_in_record(options, scenario, result);
+  if (!db) return result;
+  if (udp && !wait_for_bridge(*udp, options, *db, result, notes)) return result;
 
   // The attempt.
   result.world = std::make_unique<World>(scenario.world);
   World& world = *result.world;
   if (view || udp) {
     if (!run_live(options, scenario, world, device.get(), view, result, notes, &error)) {
-      (void)abort_attempt(db.value(), result.attempt_id, "window failed: " + error);
-      return refused(std::move(result), "cannot open the trainee view: " + error);
+      (void)abort_attempt(*db, result.attempt_id, "window failed: " + error);
+      refuse(result, "cannot open the trainee view: " + error);
+      return result;
     }
   } else {
-    CheckpointWriter checkpoints(db.value(), result.attempt_id, notes);
+    CheckpointWriter checkpoints(*db, result.attempt_id, notes);
     result.run = run_attempt(scenario, world, *device, {}, options.checkpoint_every_s,
                              checkpoint_sink(checkpoints));
   }
 
   // The record again: stored before the score shows, so closing the score screen loses nothing.
-  const std::string store_error = store_run(db.value(), result.attempt_id, result.run, world,
+  const std::string store_error = store_run(*db, result.attempt_id, result.run, world,
                                             options.record, &result.stored_as);
   if (view && result.run.end != AttemptEnd::kStopped)
     view->show_score(result.run,
@@ -233,7 +265,10 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
                          ? "Stored as attempt " + std::to_string(result.attempt_id) + " (" +
                                result.stored_as + ")"
                          : "Could not store the attempt: " + store_error);
-  if (!store_error.empty()) return refused(std::move(result), store_error);
+  if (!store_error.empty()) {
+    refuse(result, store_error);
+    return result;
+  }
   result.end = result.run.end == AttemptEnd::kNumericalFailure ? SessionEnd::kNumericalFailure
                : result.run.end == AttemptEnd::kStopped        ? SessionEnd::kAbandoned
                                                                 : SessionEnd::kCompleted;
