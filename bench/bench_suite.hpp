@@ -1,7 +1,7 @@
 // `acdr bench` as a library: the work-precision grid (our solver and the Bullet soft-body
 // peer against a converged reference), cost against particle count with a fitted exponent,
 // and the skips switched on and off with the error each costs. Plain data out; the command
-// (ui/commands/bench_command) formats tables, CSV, JSON and the plot.
+// (cli/bench_command) formats tables, CSV, JSON and the plot.
 #pragma once
 
 #include <functional>

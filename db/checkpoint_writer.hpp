@@ -2,7 +2,7 @@
 // checkpoint becomes the next recording piece (the header first), with the new events and the
 // metrics of the record so far, appended by append_checkpoint (attempt_store.hpp). The one way
 // checkpoints are made, whoever drives the attempt: a headless replay calls it on its stepping
-// thread, a live attempt on its writer thread (ui/live_attempt_checkpoints.hpp).
+// thread, a live attempt on its writer thread (app/live_attempt_checkpoints.hpp).
 #pragma once
 
 #include <cstddef>

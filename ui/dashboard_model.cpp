@@ -7,6 +7,8 @@
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
+#include "engine/rigid/instrument.hpp"
+#include "engine/rigid/static_scene.hpp"
 #include "scenarios/scenario_loader.hpp"
 
 namespace acdr {
@@ -21,11 +23,6 @@ const ModuleRecord* DashboardModel::find_module(const std::string& id) const {
   for (const ModuleRecord& m : modules)
     if (m.id == id) return &m;
   return nullptr;
-}
-
-const ScenarioModel* DashboardModel::scenario(const std::string& module_id) const {
-  const auto it = scenarios.find(module_id);
-  return it == scenarios.end() ? nullptr : it->second.model.get();
 }
 
 DbResult<DashboardModel> load_dashboard(Database& db) {
@@ -60,21 +57,6 @@ DbResult<DashboardModel> load_dashboard(Database& db) {
       if (a.is_practice()) model.practice.push_back(std::move(a));
     (void)tx->commit();
   }
-  // Scenario files for benchmarks and replay geometry (paths as the runs stored them).
-  for (const ModuleRecord& m : model.modules) {
-    DashboardScenario s;
-    if (m.scenario_path.empty()) {
-      s.error = "no scenario file recorded";
-    } else {
-      LoadResult loaded = load_scenario_file(m.scenario_path);
-      if (loaded.ok())
-        s.model = loaded.model;
-      else
-        s.error = m.scenario_path + ": " +
-                  (loaded.errors.empty() ? "cannot load" : to_string(loaded.errors));
-    }
-    model.scenarios[m.id] = std::move(s);
-  }
   return model;
 }
 
@@ -84,7 +66,50 @@ std::size_t AttemptDrillDown::frame_at(double t) const {
   return it == t_s.begin() ? 0 : static_cast<std::size_t>(it - t_s.begin()) - 1;
 }
 
+void ReplayGeometry::instrument_at(const Pose& grip, std::vector<Collider>& out) const {
+  out.resize(instrument.size());
+  for (std::size_t i = 0; i < instrument.size(); ++i) {
+    out[i] = instrument[i];
+    out[i].pose.position = grip.apply(instrument[i].pose.position);
+    out[i].pose.orientation = grip.orientation * instrument[i].pose.orientation;
+  }
+}
+
 namespace {
+
+// The corners of a box collider (world frame) into `bounds`.
+void extend_by_box(const Collider& c, Eigen::AlignedBox3d& bounds) {
+  for (int k = 0; k < 8; ++k)
+    bounds.extend(c.pose.apply(Vec3((k & 1 ? 1 : -1) * c.half_extents_m.x(),
+                                    (k & 2 ? 1 : -1) * c.half_extents_m.y(),
+                                    (k & 4 ? 1 : -1) * c.half_extents_m.z())));
+}
+
+// The module's scenario (path as the runs stored it): its rubric and the replay's walls and
+// instrument. Sets `d.scenario_error` when it cannot be read.
+void load_scenario_parts(Database& db, AttemptDrillDown& d) {
+  auto module = find_module(db, d.record.module_id);
+  if (!module || !module.value() || module.value()->scenario_path.empty()) {
+    d.scenario_error = !module ? module.error().message : "no scenario file recorded";
+    return;
+  }
+  const std::string& path = module.value()->scenario_path;
+  const LoadResult loaded = load_scenario_file(path);
+  if (!loaded.ok()) {
+    d.scenario_error =
+        path + ": " + (loaded.errors.empty() ? "cannot load" : to_string(loaded.errors));
+    return;
+  }
+  const WorldConfig& world = loaded.model->world;
+  d.rubric = loaded.model->rubric;
+  for (const Collider& c : build_static_colliders(world.ground, world.box)) {
+    if (c.kind != ColliderKind::kBox) continue;
+    d.replay.walls.push_back(c);
+    extend_by_box(c, d.replay.bounds);
+  }
+  if (world.instrument.enabled)
+    d.replay.instrument = InstrumentGeometry(world.instrument).local_colliders();
+}
 
 // Appends to `bands` the intervals where `inside(frame)` holds.
 template <class Pred>
@@ -115,6 +140,9 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   }
   auto d = std::make_unique<AttemptDrillDown>();
   d->record = std::move(*loaded.value());
+  load_scenario_parts(db, *d);
+  d->metric_rows = score_table(d->record.metrics, d->record.score_detail,
+                               d->rubric ? &*d->rubric : nullptr, ScoreTableScope::kAllMetrics);
   if (!d->record.recording) {
     d->recording_error = "no recording stored (the attempt was " +
                          std::string(attempt_status_name(d->record.status)) + ")";
@@ -155,6 +183,7 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   collect_bands(r.frames, [&](const Frame& f) { return any_zone(f, false); }, d->zone_warning);
   collect_bands(r.frames, [&](const Frame& f) { return any_zone(f, true); }, d->zone_inside);
   d->duration_s = n ? r.frames.back().t_s : 0.0;
+  for (const Frame& f : r.frames) d->replay.bounds.extend(f.tip_m);
   return d;
 }
 

@@ -1,22 +1,25 @@
 // The instructor dashboard's data, read from the training record (db/) into plain structs the
 // view draws: trainees with their curriculum progress and attempts, and, for one selected
 // attempt, its decoded recording turned into time series (forces, shaft moment, removal,
-// tip path) and bands (overload, rejected or lost input). Also the CSV of whatever the
-// dashboard currently shows. No ImGui here, so all of it can be tested without a screen.
+// tip path) and bands (overload, rejected or lost input), with what it needs of its module's
+// scenario (benchmarks, the replay's geometry). Also the CSV of whatever the dashboard
+// currently shows. No ImGui here, so all of it can be tested without a screen.
 #pragma once
 
 #include <cstdint>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "app/score_table.hpp"
 #include "assessment/attempt_recording.hpp"
+#include "assessment/rubric.hpp"
 #include "db/database.hpp"
 #include "db/progression.hpp"
 #include "db/records.hpp"
-#include "scenarios/scenario_model.hpp"
+#include "engine/core/types.hpp"
+#include "engine/geometry/collider.hpp"
 
 namespace acdr {
 
@@ -26,31 +29,35 @@ struct DashboardTrainee {
   std::vector<AttemptRecord> attempts;   ///< in start order, with metrics and score detail
 };
 
-/// A module's scenario as far as the dashboard needs it (benchmarks, geometry for the replay).
-struct DashboardScenario {
-  std::shared_ptr<const ScenarioModel> model;  ///< null when the file cannot be loaded
-  std::string error;                           ///< why not
-};
-
 struct DashboardModel {
   std::string db_path;
   std::vector<ModuleRecord> modules;         ///< curriculum order
   std::vector<DashboardTrainee> trainees;    ///< by id
   std::vector<AttemptRecord> practice;       ///< attempts without a trainee
-  std::map<std::string, DashboardScenario> scenarios;  ///< by module id
 
   const DashboardTrainee* find_trainee(const std::string& id) const;
   const ModuleRecord* find_module(const std::string& id) const;
-  const ScenarioModel* scenario(const std::string& module_id) const;
 };
 
-/// Reads everything but recordings in one consistent snapshot (a read transaction), and loads
-/// each module's scenario file for its benchmarks.
+/// Reads everything but recordings in one consistent snapshot (a read transaction). Reads no
+/// scenario file: what an attempt needs of its module's scenario comes with its drill-down.
 DbResult<DashboardModel> load_dashboard(Database& db);
 
 /// One shaded interval of time.
 struct TimeBand {
   double t0_s = 0.0, t1_s = 0.0;
+};
+
+/// What the replay draws besides the recorded frames: the box walls and the instrument's shape
+/// from the module's scenario, and the bounds of the walls and the whole tip path. Built once,
+/// when the attempt is opened, so drawing needs neither the scenario file nor the engine.
+struct ReplayGeometry {
+  std::vector<Collider> walls;       ///< the box's walls, world frame
+  std::vector<Collider> instrument;  ///< the instrument's colliders in its grip frame; empty: none
+  Eigen::AlignedBox3d bounds;        ///< the walls and every recorded tip position (m)
+
+  /// The instrument's colliders with its grip at `grip` (world frame), into `out`.
+  void instrument_at(const Pose& grip, std::vector<Collider>& out) const;
 };
 
 /// An attempt opened for drill-down: its record with events and the decoded recording as
@@ -70,14 +77,23 @@ struct AttemptDrillDown {
   std::vector<TimeBand> zone_warning;      ///< within a danger zone's warning distance
   std::vector<TimeBand> zone_inside;       ///< inside a danger zone
   double duration_s = 0.0;
+  /// From the module's scenario file, read once here: its rubric (the benchmarks) and the
+  /// replay's walls and instrument. nullopt / empty with `scenario_error` set when the file
+  /// cannot be loaded.
+  std::optional<Rubric> rubric;
+  ReplayGeometry replay;
+  std::string scenario_error;
+  /// Every recorded metric against its benchmark, as the attempt was scored.
+  std::vector<ScoreTableRow> metric_rows;
 
   /// Index of the last frame at or before time t (0 when none).
   std::size_t frame_at(double t_s) const;
 };
 
-/// Loads attempt `id` with events and recording. Null with `error` when there is no such
-/// attempt or the store fails; a recording that does not decode is reported in
-/// recording_error, with the rest still shown.
+/// Loads attempt `id` with events and recording, and its module's scenario file for the
+/// benchmarks and the replay's geometry. Null with `error` when there is no such attempt or the
+/// store fails; a recording that does not decode is reported in recording_error, a scenario
+/// that does not load in scenario_error, with the rest still shown.
 std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
                                                   std::string* error);
 

@@ -6,10 +6,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/rigid/instrument.hpp"
-#include "engine/rigid/rigid_world.hpp"
 #include "ui/imgui_style.hpp"
 #include "ui/plot_widgets.hpp"
+#include "ui/score_table_view.hpp"
 
 namespace acdr {
 namespace {
@@ -250,56 +249,9 @@ void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
 }
 
 // ---- drill-down pieces -----------------------------------------------------------------------
-void draw_metrics_table(const AttemptDrillDown& d, const ScenarioModel* scenario) {
+void draw_metrics_table(const AttemptDrillDown& d) {
   ImGui::TextUnformatted("Metrics against benchmarks");
-  if (ImGui::BeginTable("metrics", 4,
-                        ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
-                            ImGuiTableFlags_SizingStretchProp)) {
-    ImGui::TableSetupColumn("metric", ImGuiTableColumnFlags_WidthStretch, 2.2f);
-    ImGui::TableSetupColumn("value", ImGuiTableColumnFlags_WidthStretch, 0.9f);
-    ImGui::TableSetupColumn("benchmark", ImGuiTableColumnFlags_WidthStretch, 1.6f);
-    ImGui::TableSetupColumn("score", ImGuiTableColumnFlags_WidthStretch, 0.7f);
-    ImGui::TableHeadersRow();
-    const ScoreResult& score = d.record.score_detail;
-    for (const auto& [name, value] : d.record.metrics.values) {
-      const TermScore* term = nullptr;
-      for (const TermScore& t : score.terms)
-        if (t.metric == name) term = &t;
-      const GateResult* gate = nullptr;
-      for (const GateResult& g : score.gates)
-        if (g.metric == name) gate = &g;
-      const RubricTerm* rubric = nullptr;
-      if (scenario)
-        for (const RubricTerm& r : scenario->rubric.terms)
-          if (r.metric == name) rubric = &r;
-      // Scored and gated metrics first would need sorting; instead highlight them.
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      const bool assessed = term || gate;
-      if (assessed)
-        ImGui::TextUnformatted(metric_label(name).c_str());
-      else
-        ImGui::TextColored(ui_colors::kMuted, "%s", metric_label(name).c_str());
-      ImGui::TableNextColumn();
-      ImGui::Text("%.4g", value);
-      ImGui::TableNextColumn();
-      if (rubric)
-        ImGui::Text("%.3g ± %.2g %s", rubric->expert_mean, rubric->expert_sd,
-                    rubric->higher_is_better ? "(higher better)" : "(lower better)");
-      else if (gate)
-        ImGui::Text("at most %.3g", gate->max);
-      else if (term)
-        ImGui::TextColored(ui_colors::kMuted, "scenario not found");
-      ImGui::TableNextColumn();
-      if (term)
-        ImGui::TextColored(term->score >= 50 ? ui_colors::kOk : ui_colors::kWarning, "%.0f",
-                           term->score);
-      else if (gate)
-        ImGui::TextColored(gate->passed ? ui_colors::kOk : ui_colors::kDanger, "%s",
-                           gate->passed ? "held" : "FAILED");
-    }
-    ImGui::EndTable();
-  }
+  draw_score_table("metrics", d.metric_rows);
   for (const std::string& r : d.record.score_detail.reasons)
     ImGui::TextColored(ui_colors::kWarning, "- %s", r.c_str());
 }
@@ -410,8 +362,7 @@ void draw_time_plots(const AttemptDrillDown& d, DashboardSelection& sel) {
 
 // The recorded instrument in two projections (top: x-y, side: x-z), the box, and the tip
 // path so far coloured by the force on the hand.
-void draw_replay(const AttemptDrillDown& d, const ScenarioModel* scenario,
-                 DashboardSelection& sel) {
+void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
   const AttemptRecording& r = *d.recording;
   const float duration = static_cast<float>(std::max(d.duration_s, 1e-3));
   ImGui::TextUnformatted("Replay");
@@ -429,25 +380,12 @@ void draw_replay(const AttemptDrillDown& d, const ScenarioModel* scenario,
               100.0 * d.removed_fraction[i], d.hand_force_N[i], d.tissue_force_N[i],
               f.bending_moment_Nm);
 
-  // Geometry: static box walls and the instrument at this frame (when the scenario loads).
-  std::vector<Collider> statics, instrument;
-  if (scenario) {
-    statics = build_static_colliders(scenario->world.ground, scenario->world.box);
-    if (scenario->world.instrument.enabled) {
-      InstrumentGeometry geometry(scenario->world.instrument);
-      instrument.reserve(geometry.local_colliders().size());
-      geometry.world_colliders(f.instrument, Vec3::Zero(), Vec3::Zero(), instrument);
-    }
-  }
-  // Bounds of what is drawn: box walls and the whole tip path.
-  Eigen::AlignedBox3d box;
-  for (const Collider& c : statics)
-    if (c.kind == ColliderKind::kBox)
-      for (int k = 0; k < 8; ++k)
-        box.extend(c.pose.apply(Vec3((k & 1 ? 1 : -1) * c.half_extents_m.x(),
-                                     (k & 2 ? 1 : -1) * c.half_extents_m.y(),
-                                     (k & 4 ? 1 : -1) * c.half_extents_m.z())));
-  for (const Frame& g : r.frames) box.extend(g.tip_m);
+  // Geometry from the model (box walls, the instrument at this frame's grip pose) and what is
+  // drawn: the walls, the whole tip path and the instrument's working end now.
+  const std::vector<Collider>& statics = d.replay.walls;
+  std::vector<Collider> instrument;
+  d.replay.instrument_at(f.instrument, instrument);
+  Eigen::AlignedBox3d box = d.replay.bounds;
   box.extend(f.tip_m + (f.instrument.position - f.tip_m) * 0.35);
   if (box.isEmpty()) return;
   const Vec3 pad = Vec3::Constant(2e-3);
@@ -487,8 +425,7 @@ void draw_replay(const AttemptDrillDown& d, const ScenarioModel* scenario,
         for (int bit : {1, 2, 4})
           if (!(k & bit)) dl->AddLine(q[k], q[k | bit], color, 1.2f);
     };
-    for (const Collider& c : statics)
-      if (c.kind == ColliderKind::kBox) draw_box(c, IM_COL32(120, 150, 200, 150));
+    for (const Collider& c : statics) draw_box(c, IM_COL32(120, 150, 200, 150));
     // Tip path up to now, coloured green -> amber -> red with the force on the hand.
     const std::size_t stride = std::max<std::size_t>(1, (i + 1) / 1500);
     ImVec2 prev = project(r.frames[0].tip_m);
@@ -540,8 +477,7 @@ void draw_removed_plot(const AttemptDrillDown& d, DashboardSelection& sel) {
   if (pi.clicked) sel.replay_t_s = pi.x_at_mouse;
 }
 
-void draw_attempt(const DashboardModel& model, const AttemptDrillDown& d,
-                  DashboardSelection& sel) {
+void draw_attempt(const AttemptDrillDown& d, DashboardSelection& sel) {
   const AttemptRecord& a = d.record;
   char title[200];
   std::snprintf(title, sizeof title, "Attempt %lld: %s, %s, %s", static_cast<long long>(a.id),
@@ -567,13 +503,12 @@ void draw_attempt(const DashboardModel& model, const AttemptDrillDown& d,
   if (!a.abort_reason.empty())
     ImGui::TextColored(ui_colors::kWarning, "Aborted: %s", a.abort_reason.c_str());
 
-  const ScenarioModel* scenario = model.scenario(a.module_id);
   if (ImGui::BeginTable("drill", 2, ImGuiTableFlags_SizingStretchProp)) {
     ImGui::TableSetupColumn("left", ImGuiTableColumnFlags_WidthStretch, 1.0f);
     ImGui::TableSetupColumn("right", ImGuiTableColumnFlags_WidthStretch, 1.1f);
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
-    draw_metrics_table(d, scenario);
+    draw_metrics_table(d);
     ImGui::Spacing();
     if (d.recording) {
       draw_event_timeline(d, sel);
@@ -582,18 +517,15 @@ void draw_attempt(const DashboardModel& model, const AttemptDrillDown& d,
     ImGui::TableNextColumn();
     if (d.recording) {
       draw_time_plots(d, sel);
-      draw_replay(d, scenario, sel);
+      draw_replay(d, sel);
     } else {
       ImGui::TextColored(ui_colors::kWarning, "No replay: %s", d.recording_error.c_str());
     }
     ImGui::EndTable();
   }
-  if (!scenario) {
-    const auto it = model.scenarios.find(a.module_id);
-    if (it != model.scenarios.end() && !it->second.error.empty())
-      ImGui::TextColored(ui_colors::kMuted, "Benchmarks and box outline unavailable: %s",
-                         it->second.error.c_str());
-  }
+  if (!d.scenario_error.empty())
+    ImGui::TextColored(ui_colors::kMuted, "Benchmarks and box outline unavailable: %s",
+                       d.scenario_error.c_str());
 }
 
 }  // namespace
@@ -629,7 +561,7 @@ void draw_dashboard(const DashboardModel& model, DashboardSelection& sel,
       ImGui::TextColored(ui_colors::kMuted, "Select a trainee for the learning curve.");
     ImGui::EndTable();
   }
-  if (attempt && attempt->record.id == sel.attempt_id) draw_attempt(model, *attempt, sel);
+  if (attempt && attempt->record.id == sel.attempt_id) draw_attempt(*attempt, sel);
   ImGui::EndChild();
   ImGui::TextColored(ui_colors::kMuted, "%s   %s", model.db_path.c_str(), status.c_str());
   ImGui::End();

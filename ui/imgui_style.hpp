@@ -24,7 +24,4 @@ inline const ImVec4 kInfo{0.45f, 0.68f, 0.95f, 1.0f};      ///< neutral highligh
 inline const ImVec4 kMuted{0.62f, 0.64f, 0.68f, 1.0f};     ///< secondary text
 }  // namespace ui_colors
 
-/// A human label for a metric name ("peak_instrument_force_N" -> "Peak instrument force (N)").
-std::string metric_label(const std::string& metric);
-
 }  // namespace acdr

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "app/world_state.hpp"
 #include "engine/world/world.hpp"
 #include "ui/render_scene.hpp"
 
@@ -29,24 +30,6 @@ struct SceneStyle {
 
 /// The scene as it is now, framed by a default camera for an image of the given aspect.
 RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& style = {});
-
-/// How a particle is drawn.
-enum class ParticleClass : std::uint8_t { kTarget = 0, kProtected = 1, kRemoved = 2 };
-
-/// The moving part of a World's state, captured on the thread that steps the World so that
-/// another thread can draw it while stepping goes on (ui/live_attempt.hpp). The constant
-/// parts (configuration, static solids, instrument geometry) are read from the World itself,
-/// which never changes them after construction. Capacities are kept between captures, so a
-/// repeated capture does not allocate.
-struct WorldState {
-  Frame frame;
-  std::vector<Collider> instrument;            ///< instrument colliders at the frame's pose
-  std::vector<Eigen::Vector3f> positions;      ///< particle positions (m)
-  std::vector<ParticleClass> particle_class;   ///< one per particle
-};
-
-/// Copies the moving state of `world` into `out` (on the stepping thread).
-void capture_world_state(const World& world, WorldState& out);
 
 /// The scene of a captured state: constant parts from `world` (safe to read while another
 /// thread steps it), moving parts from `state`.

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "ui/imgui_style.hpp"
+#include "ui/score_table_view.hpp"
 
 namespace acdr {
 namespace {
@@ -247,29 +248,18 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
   s.duration_s = run.record.frames.empty() ? 0.0 : run.record.frames.back().t_s;
   s.status_line = status_line;
   s.consecutive_passes_to_master = scenario.rubric.consecutive_passes_to_master;
-  for (const TermScore& t : run.score.terms) {
-    ScoreRow row;
-    row.label = metric_label(t.metric);
-    row.value = t.value;
-    row.score = t.score;
-    row.good = t.score >= 50.0;
-    for (const RubricTerm& r : scenario.rubric.terms) {
-      if (r.metric != t.metric) continue;
-      row.benchmark = format("experts %.3g ± %.2g, ", r.expert_mean, r.expert_sd) +
-                      (r.higher_is_better ? "higher is better" : "lower is better");
-      if (!row.good)
-        s.improvements.push_back(
-            row.label + ": yours " + format("%.3g", t.value) + ", experts " +
-            format("%.3g", r.expert_mean) +
-            (r.higher_is_better ? " - aim higher." : " - aim lower."));
-    }
-    s.rows.push_back(std::move(row));
-  }
-  for (const GateResult& g : run.score.gates) {
-    s.gates.push_back({metric_label(g.metric), g.value, g.max, g.passed});
-    if (!g.passed)
-      s.improvements.push_back(metric_label(g.metric) + ": " + format("%.3g", g.value) +
-                               ", must stay at or below " + format("%.3g", g.max) + ".");
+  s.rows = score_table(run.metrics, run.score, &scenario.rubric, ScoreTableScope::kAssessed);
+  // What to improve: each weak metric against the experts, each failed gate, then the reasons.
+  for (const ScoreTableRow& row : s.rows) {
+    if (row.good) continue;
+    if (row.judgement == MetricJudgement::kScored && row.benchmark)
+      s.improvements.push_back(row.label + ": yours " + format("%.3g", row.value) +
+                               ", experts " + format("%.3g", row.benchmark->expert_mean) +
+                               (row.benchmark->higher_is_better ? " - aim higher."
+                                                                : " - aim lower."));
+    else if (row.judgement == MetricJudgement::kGated)
+      s.improvements.push_back(row.label + ": " + format("%.3g", row.value) +
+                               ", must stay at or below " + format("%.3g", row.gate_max) + ".");
   }
   for (const std::string& r : run.score.reasons) {
     if (std::find(s.improvements.begin(), s.improvements.end(), r) == s.improvements.end())
@@ -303,39 +293,7 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
   ImGui::TextColored(ui_colors::kMuted, "Pass at %.0f, with every safety gate held.",
                      s.pass_score);
   ImGui::Spacing();
-  if (ImGui::BeginTable("metrics", 4,
-                        ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
-                            ImGuiTableFlags_SizingStretchProp)) {
-    ImGui::TableSetupColumn("Metric", ImGuiTableColumnFlags_WidthStretch, 2.2f);
-    ImGui::TableSetupColumn("Yours", ImGuiTableColumnFlags_WidthStretch, 0.8f);
-    ImGui::TableSetupColumn("Benchmark", ImGuiTableColumnFlags_WidthStretch, 2.4f);
-    ImGui::TableSetupColumn("Score", ImGuiTableColumnFlags_WidthStretch, 0.7f);
-    ImGui::TableHeadersRow();
-    for (const ScoreRow& r : s.rows) {
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      ImGui::TextUnformatted(r.label.c_str());
-      ImGui::TableNextColumn();
-      ImGui::Text("%.3g", r.value);
-      ImGui::TableNextColumn();
-      ImGui::TextUnformatted(r.benchmark.c_str());
-      ImGui::TableNextColumn();
-      ImGui::TextColored(r.good ? ui_colors::kOk : ui_colors::kWarning, "%.0f", r.score);
-    }
-    for (const GateRow& g : s.gates) {
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      ImGui::Text("Safety: %s", g.label.c_str());
-      ImGui::TableNextColumn();
-      ImGui::Text("%.3g", g.value);
-      ImGui::TableNextColumn();
-      ImGui::Text("at most %.3g", g.max);
-      ImGui::TableNextColumn();
-      ImGui::TextColored(g.passed ? ui_colors::kOk : ui_colors::kDanger, "%s",
-                         g.passed ? "held" : "FAILED");
-    }
-    ImGui::EndTable();
-  }
+  draw_score_table("metrics", s.rows);
   ImGui::Spacing();
   ImGui::TextUnformatted("What to improve");
   for (const std::string& line : s.improvements) ImGui::BulletText("%s", line.c_str());

@@ -12,10 +12,11 @@
 
 #include <imgui.h>
 
+#include "app/attempt_runner.hpp"
+#include "app/live_attempt.hpp"
+#include "app/score_table.hpp"
 #include "engine/devices/haptic_loop.hpp"
 #include "scenarios/scenario_model.hpp"
-#include "ui/attempt_runner.hpp"
-#include "ui/live_attempt.hpp"
 
 namespace acdr {
 
@@ -63,22 +64,6 @@ struct HudActions {
 /// Draws the HUD for a display of `display` pixels. `actions` may be null.
 void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* actions);
 
-/// One row of the score screen's metric table.
-struct ScoreRow {
-  std::string label;
-  double value = 0.0;
-  std::string benchmark;   ///< "experts 0.15 ± 0.05, higher is better"
-  double score = 0.0;      ///< 0..100
-  bool good = true;        ///< at or better than the expert mean - 0 SD (score >= 50)
-};
-
-struct GateRow {
-  std::string label;
-  double value = 0.0;
-  double max = 0.0;
-  bool passed = true;
-};
-
 struct ScoreScreenModel {
   std::string title;
   double score = 0.0;
@@ -86,8 +71,7 @@ struct ScoreScreenModel {
   bool passed = false;
   std::string end_reason;   ///< "time limit", "input ended", ...
   double duration_s = 0.0;
-  std::vector<ScoreRow> rows;
-  std::vector<GateRow> gates;
+  std::vector<ScoreTableRow> rows;  ///< the scored metrics, then the safety gates
   std::vector<std::string> improvements;  ///< what to improve, in words
   std::string status_line;  ///< e.g. "Stored as attempt 12"
   int consecutive_passes_to_master = 2;

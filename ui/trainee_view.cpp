@@ -1,9 +1,8 @@
-// The trainee view's window loop: input, the newest live view, the scene, the HUD, the score.
+// The trainee view's window: input, the newest live view, the scene, the HUD, the score.
 #include "ui/trainee_view.hpp"
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <memory>
 #include <thread>
 
@@ -15,19 +14,23 @@
 #include "ui/glfw_window.hpp"
 #include <GLFW/glfw3.h>
 
+#include "ui/display.hpp"
 #include "ui/imgui_gl_renderer.hpp"
 #include "ui/imgui_style.hpp"
-#include "ui/live_attempt.hpp"
 #include "ui/mouse_instrument.hpp"
 #include "ui/orbit_camera.hpp"
 #include "ui/png_writer.hpp"
 #include "ui/scene_renderer.hpp"
+#include "ui/scene_snapshot.hpp"
 #include "ui/trainee_hud.hpp"
 
 namespace acdr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// ~60 Hz even without vsync (Xvfb): the haptic thread needs the CPU more than extra frames do.
+constexpr auto kFramePeriod = std::chrono::microseconds(16667);
 
 bool key_down(GLFWwindow* w, int key) { return glfwGetKey(w, key) == GLFW_PRESS; }
 
@@ -76,192 +79,211 @@ bool save_window_png(const GlfwWindow& window, const std::string& path, std::str
 
 }  // namespace
 
-bool display_available() {
-  const char* x = std::getenv("DISPLAY");
-  const char* wayland = std::getenv("WAYLAND_DISPLAY");
-  return (x && *x) || (wayland && *wayland);
-}
-
-TraineeViewOutcome run_trainee_view(const ScenarioModel& scenario, World& world,
-                                    InputDevice* device, const TraineeViewOptions& options,
-                                    const AttemptFinished& on_finished) {
-  TraineeViewOutcome outcome;
-  GlfwWindowOptions window_options;
-  window_options.width = options.width;
-  window_options.height = options.height;
-  window_options.title = "ACDR Trainer - " + scenario.title;
-  window_options.vsync = options.vsync;
-  auto window = GlfwWindow::create(window_options, &outcome.error);
-  if (!window) return outcome;
-  auto renderer = SceneRenderer::create(window->gl(), &outcome.error);
-  if (!renderer) return outcome;
+// The window and what persists from the live phase to the score screen.
+struct TraineeView::Window {
+  const ScenarioModel* scenario = nullptr;
+  const World* world = nullptr;
+  std::unique_ptr<GlfwWindow> window;
+  std::unique_ptr<SceneRenderer> renderer;
   WindowImGui imgui;
-  if (!imgui.init(*window, &outcome.error)) return outcome;
-  GLFWwindow* handle = window->handle();
-
-  // The instrument's input: the given device, or the mouse and keyboard.
-  std::unique_ptr<MouseInstrumentDevice> mouse;
-  InputDevice* input = device;
-  if (!input) {
-    mouse = std::make_unique<MouseInstrumentDevice>(scenario.world.instrument_start);
-    input = mouse.get();
-  }
-  const std::string input_label =
-      mouse ? "mouse and keyboard" : (options.input_label.empty() ? "device" : options.input_label);
-
-  // The first view straight from the world (nothing steps it yet), then the haptic thread.
-  LiveView view;
-  capture_world_state(world, view.state);
-  LiveAttempt live(scenario, world, *input, options.loop);
-  live.set_checkpoints(options.checkpoint_every_s, options.checkpoint_sink);
-  live.start();
-
+  std::unique_ptr<MouseInstrumentDevice> mouse;  ///< when the view drives the instrument
+  InputDevice* device = nullptr;
+  std::string input_label;
+  LiveView view;  ///< the newest live view (the last one once the attempt has ended)
   OrbitCamera orbit;
   bool camera_ready = false;
-  bool live_phase = true;
-  bool screenshot_done = options.screenshot.empty();
-  bool score_screenshot_done = options.score_screenshot.empty();
-  int score_frames = 0;
-  ScoreScreenModel score;
-  Clock::time_point score_shown{};
   KeyEdge enter_key, reset_key;
-  const auto frame_period = std::chrono::microseconds(16667);  // ~60 Hz even without vsync
 
-  for (;;) {
-    const auto frame_start = Clock::now();
-    GlfwWindow::poll_events();
-    const bool closing = window->should_close();
-    if (closing && live_phase) live.request_stop(AttemptEnd::kStopped);
-    if (closing && !live_phase) break;
+  // One frame's state between begin_frame and end_frame.
+  Clock::time_point frame_start;
+  int fb_w = 0, fb_h = 0;
+  float aspect = 1.0f;
+  RenderScene scene;
+  bool enter = false;
 
-    // The newest view; `finished_now` read first, so this frame shows the final state.
-    const bool finished_now = live_phase && live.finished();
-    live.latest(view);
-
-    int fb_w = 0, fb_h = 0;
+  // Polls input and starts a frame: the scene of the newest view, camera controls. Returns
+  // false when the window is minimised (nothing to draw) unless `force`.
+  bool begin_frame(bool force) {
+    frame_start = Clock::now();
     window->framebuffer_size(&fb_w, &fb_h);
-    if ((fb_w <= 0 || fb_h <= 0) && !finished_now) {  // minimised: nothing to draw
-      std::this_thread::sleep_for(frame_period);
-      continue;
+    if ((fb_w <= 0 || fb_h <= 0) && !force) {
+      std::this_thread::sleep_for(kFramePeriod);
+      return false;
     }
     fb_w = std::max(fb_w, 1);
     fb_h = std::max(fb_h, 1);
-    const float aspect = static_cast<float>(fb_w) / static_cast<float>(fb_h);
-    RenderScene scene = snapshot_state(world, view.state, aspect);
+    aspect = static_cast<float>(fb_w) / static_cast<float>(fb_h);
+    scene = snapshot_state(*world, view.state, aspect);
     if (!camera_ready) {
       orbit.reset(scene.camera);
       camera_ready = true;
     }
-
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     const ImGuiIO& io = ImGui::GetIO();
-
     // Camera: right-drag orbit, wheel zoom, middle-drag pan (unless over a HUD window).
     if (!io.WantCaptureMouse) {
       if (io.MouseDown[1]) orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
       if (io.MouseDown[2]) orbit.pan(io.MouseDelta.x, io.MouseDelta.y, io.DisplaySize.y);
       if (io.MouseWheel != 0.0f) orbit.zoom(io.MouseWheel);
     }
+    GLFWwindow* handle = window->handle();
     const bool keyboard_free = !io.WantCaptureKeyboard;
     if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) orbit.reset(scene.camera);
-    const bool enter = keyboard_free && (enter_key.pressed(handle, GLFW_KEY_ENTER) ||
-                                         enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
+    enter = keyboard_free && (enter_key.pressed(handle, GLFW_KEY_ENTER) ||
+                              enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
+    return true;
+  }
 
-    // Instrument from the mouse and keyboard.
-    if (mouse && live_phase) {
-      MouseKeyInput in;
-      in.dt_s = 1.0 / 60.0;
-      if (!io.WantCaptureMouse && io.MouseDown[0]) {
-        in.drag_dx_px = io.MouseDelta.x;
-        in.drag_dy_px = io.MouseDelta.y;
-      }
-      if (keyboard_free) {
-        in.up = key_down(handle, GLFW_KEY_W);
-        in.down = key_down(handle, GLFW_KEY_S);
-        in.tilt_plus = key_down(handle, GLFW_KEY_E);
-        in.tilt_minus = key_down(handle, GLFW_KEY_Q);
-        in.roll_plus = key_down(handle, GLFW_KEY_D);
-        in.roll_minus = key_down(handle, GLFW_KEY_A);
-        in.fast = key_down(handle, GLFW_KEY_LEFT_SHIFT) || key_down(handle, GLFW_KEY_RIGHT_SHIFT);
-        in.hold = key_down(handle, GLFW_KEY_SPACE);
-      }
-      mouse->set_pose(apply_mouse_input(mouse->pose(), in, orbit.camera()));
+  // The instrument from the mouse and keyboard, when the view drives it.
+  void move_mouse_instrument() {
+    if (!mouse) return;
+    const ImGuiIO& io = ImGui::GetIO();
+    GLFWwindow* handle = window->handle();
+    MouseKeyInput in;
+    in.dt_s = 1.0 / 60.0;
+    if (!io.WantCaptureMouse && io.MouseDown[0]) {
+      in.drag_dx_px = io.MouseDelta.x;
+      in.drag_dy_px = io.MouseDelta.y;
     }
+    if (!io.WantCaptureKeyboard) {
+      in.up = key_down(handle, GLFW_KEY_W);
+      in.down = key_down(handle, GLFW_KEY_S);
+      in.tilt_plus = key_down(handle, GLFW_KEY_E);
+      in.tilt_minus = key_down(handle, GLFW_KEY_Q);
+      in.roll_plus = key_down(handle, GLFW_KEY_D);
+      in.roll_minus = key_down(handle, GLFW_KEY_A);
+      in.fast = key_down(handle, GLFW_KEY_LEFT_SHIFT) || key_down(handle, GLFW_KEY_RIGHT_SHIFT);
+      in.hold = key_down(handle, GLFW_KEY_SPACE);
+    }
+    mouse->set_pose(apply_mouse_input(mouse->pose(), in, orbit.camera()));
+  }
+
+  // Draws the scene and the overlay built since begin_frame.
+  void render() {
     scene.camera = orbit.camera();
-
-    // Overlay.
-    bool close_score = false;
-    if (live_phase) {
-      HudModel hud = make_hud_model(scenario, world.summary(), view, live.haptic_stats(),
-                                    input_label);
-      hud.mouse_mode = mouse != nullptr;
-      HudActions actions;
-      draw_trainee_hud(hud, io.DisplaySize, &actions);
-      if (actions.reset_camera) orbit.reset(snapshot_state(world, view.state, aspect).camera);
-      if ((actions.finish || enter) && !finished_now) {
-        // "Done": score what was done (for the mouse through the device, like a bridge's
-        // end-of-attempt).
-        if (mouse)
-          mouse->request_end();
-        else
-          live.request_stop(AttemptEnd::kInputEnded);
-      }
-    } else {
-      close_score = draw_score_screen(score, io.DisplaySize) || enter;
-    }
     ImGui::Render();
-
-    const RenderStats stats = renderer->render(scene, fb_w, fb_h);
-    (void)stats;
+    renderer->render(scene, fb_w, fb_h);
     imgui.renderer().render(ImGui::GetDrawData(), fb_w, fb_h);
+  }
 
-    // Pictures, read back before the swap.
-    std::string error;
-    if (live_phase && !screenshot_done &&
-        ((options.screenshot_at_s >= 0 && view.state.frame.t_s >= options.screenshot_at_s) ||
-         (options.screenshot_at_s < 0 && finished_now))) {
-      if (!save_window_png(*window, options.screenshot, &error))
-        outcome.error = options.screenshot + ": " + error;
+  // Shows the frame and paces the loop.
+  void end_frame() {
+    window->swap_buffers();
+    std::this_thread::sleep_until(frame_start + kFramePeriod);
+  }
+};
+
+TraineeView::TraineeView(TraineeViewOptions options) : options_(std::move(options)) {}
+TraineeView::~TraineeView() = default;
+
+bool TraineeView::can_open() const { return display_available(); }
+
+bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputDevice* device,
+                       std::string* error) {
+  auto w = std::make_unique<Window>();
+  w->scenario = &scenario;
+  w->world = &world;
+  GlfwWindowOptions window_options;
+  window_options.width = options_.width;
+  window_options.height = options_.height;
+  window_options.title = "ACDR Trainer - " + scenario.title;
+  window_options.vsync = options_.vsync;
+  w->window = GlfwWindow::create(window_options, error);
+  if (!w->window) return false;
+  w->renderer = SceneRenderer::create(w->window->gl(), error);
+  if (!w->renderer) return false;
+  if (!w->imgui.init(*w->window, error)) return false;
+  // The instrument's input: the given device, or the mouse and keyboard.
+  w->device = device;
+  if (!device) {
+    w->mouse = std::make_unique<MouseInstrumentDevice>(scenario.world.instrument_start);
+    w->device = w->mouse.get();
+  }
+  w->input_label = w->mouse ? "mouse and keyboard"
+                            : (options_.input_label.empty() ? "device" : options_.input_label);
+  // The first view straight from the world, before anything steps it.
+  capture_world_state(world, w->view.state);
+  window_ = std::move(w);
+  return true;
+}
+
+InputDevice& TraineeView::device() { return *window_->device; }
+
+void TraineeView::watch(LiveAttempt& live) {
+  Window& w = *window_;
+  bool screenshot_done = options_.screenshot.empty();
+  for (;;) {
+    GlfwWindow::poll_events();
+    if (w.window->should_close()) live.request_stop(AttemptEnd::kStopped);
+    // Read before the view, so that the frame that sees the end shows the final state.
+    const bool finished = live.finished();
+    live.latest(w.view);
+    if (!w.begin_frame(finished)) continue;
+    w.move_mouse_instrument();
+    HudModel hud = make_hud_model(*w.scenario, w.world->summary(), w.view, live.haptic_stats(),
+                                  w.input_label);
+    hud.mouse_mode = w.mouse != nullptr;
+    HudActions actions;
+    draw_trainee_hud(hud, ImGui::GetIO().DisplaySize, &actions);
+    if (actions.reset_camera)
+      w.orbit.reset(snapshot_state(*w.world, w.view.state, w.aspect).camera);
+    if ((actions.finish || w.enter) && !finished) {
+      // "Done": score what was done (for the mouse through the device, like a bridge's
+      // end-of-attempt).
+      if (w.mouse)
+        w.mouse->request_end();
+      else
+        live.request_stop(AttemptEnd::kInputEnded);
+    }
+    w.render();
+    // The picture, read back before the swap.
+    if (!screenshot_done &&
+        ((options_.screenshot_at_s >= 0 && w.view.state.frame.t_s >= options_.screenshot_at_s) ||
+         (options_.screenshot_at_s < 0 && finished))) {
+      std::string error;
+      if (!save_window_png(*w.window, options_.screenshot, &error))
+        picture_error_ = options_.screenshot + ": " + error;
       screenshot_done = true;
     }
-    if (!live_phase && !score_screenshot_done && ++score_frames >= 3) {
-      // Three frames: the auto-sized score window has settled.
-      if (!save_window_png(*window, options.score_screenshot, &error))
-        outcome.error = options.score_screenshot + ": " + error;
-      score_screenshot_done = true;
+    if (finished) {
+      w.window->swap_buffers();
+      return;
     }
-    window->swap_buffers();
+    w.end_frame();
+  }
+}
 
-    if (finished_now) {
-      // The attempt is over: close it (metrics, score), let the caller store it, show the score.
-      outcome.run = live.wait();
-      outcome.haptics = live.haptic_stats();
-      outcome.checkpoints = live.checkpoint_stats();
-      const std::string status = on_finished ? on_finished(outcome.run) : "";
-      score = make_score_screen(scenario, outcome.run, status);
-      live_phase = false;
-      score_shown = Clock::now();
-      if (outcome.run.end == AttemptEnd::kStopped) break;  // the window was closed
+void TraineeView::show_score(const AttemptRun& run, const std::string& status) {
+  Window& w = *window_;
+  const ScoreScreenModel score = make_score_screen(*w.scenario, run, status);
+  const Clock::time_point shown = Clock::now();
+  bool screenshot_done = options_.score_screenshot.empty();
+  int frames = 0;
+  for (;;) {
+    GlfwWindow::poll_events();
+    if (w.window->should_close()) return;
+    if (!w.begin_frame(false)) continue;
+    const bool close = draw_score_screen(score, ImGui::GetIO().DisplaySize) || w.enter;
+    w.render();
+    if (!screenshot_done && ++frames >= 3) {
+      // Three frames: the auto-sized score window has settled.
+      std::string error;
+      if (!save_window_png(*w.window, options_.score_screenshot, &error))
+        picture_error_ = options_.score_screenshot + ": " + error;
+      screenshot_done = true;
     }
-    if (close_score) break;
-    if (!live_phase && options.close_after_s >= 0 &&
-        std::chrono::duration<double>(Clock::now() - score_shown).count() > options.close_after_s &&
-        score_screenshot_done)
-      break;
-    // Pace the window at ~60 Hz even when the swap does not wait (no vsync, Xvfb): the
-    // haptic thread needs the CPU more than extra frames do.
-    std::this_thread::sleep_until(frame_start + frame_period);
+    if (close) {
+      w.window->swap_buffers();
+      return;
+    }
+    const double elapsed = std::chrono::duration<double>(Clock::now() - shown).count();
+    if (options_.close_after_s >= 0 && elapsed > options_.close_after_s && screenshot_done) {
+      w.window->swap_buffers();
+      return;
+    }
+    w.end_frame();
   }
-  if (live_phase) {
-    live.request_stop(AttemptEnd::kStopped);
-    outcome.run = live.wait();
-    outcome.haptics = live.haptic_stats();
-    outcome.checkpoints = live.checkpoint_stats();
-    if (on_finished) on_finished(outcome.run);
-  }
-  outcome.ok = true;
-  return outcome;
 }
 
 }  // namespace acdr

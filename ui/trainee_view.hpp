@@ -1,20 +1,16 @@
 // The trainee view: `acdr run SCENARIO` with a display. A GLFW window on the main thread draws
-// the scene at ~60 Hz from the views the haptic thread publishes (ui/live_attempt.hpp), with a
+// the scene at ~60 Hz from the views the haptic thread publishes (app/live_attempt.hpp), with a
 // Dear ImGui overlay (ui/trainee_hud.hpp): module title and goal, time, force gauge, nucleus
 // removed, zone and overload warnings, camera controls; at the end, the score screen. With no
 // device the mouse and keyboard drive the instrument (ui/mouse_instrument.hpp,
-// docs/trainee-view.md).
+// docs/trainee-view.md). The attempt session (app/attempt_session.hpp) drives it as its
+// AttemptView: open, watch the live attempt, show the score.
 #pragma once
 
-#include <functional>
+#include <memory>
 #include <string>
 
-#include "engine/devices/haptic_loop.hpp"
-#include "engine/devices/input_device.hpp"
-#include "engine/world/world.hpp"
-#include "scenarios/scenario_model.hpp"
-#include "ui/attempt_runner.hpp"
-#include "ui/live_attempt_checkpoints.hpp"
+#include "app/attempt_view.hpp"
 
 namespace acdr {
 
@@ -31,32 +27,30 @@ struct TraineeViewOptions {
   double close_after_s = -1.0;
   bool vsync = true;
   std::string input_label;  ///< shown in the HUD ("udp:7000", "replay:demo.csv"); mouse: "mouse"
-  HapticLoopOptions loop;  ///< rate defaults to the scenario's 1 / dt
-  /// Checkpoints of the attempt (LiveAttempt::set_checkpoints): every this many simulated
-  /// seconds (0: none), through `checkpoint_sink` on a writer thread.
-  double checkpoint_every_s = 0.0;
-  CheckpointSink checkpoint_sink;
 };
 
-struct TraineeViewOutcome {
-  bool ok = false;
-  std::string error;  ///< why the window could not be used (no display, no GL 3.3, ...)
-  AttemptRun run;
-  HapticLoopStats haptics;
-  LiveCheckpointStats checkpoints;
+class TraineeView final : public AttemptView {
+ public:
+  explicit TraineeView(TraineeViewOptions options);
+  ~TraineeView() override;
+  TraineeView(const TraineeView&) = delete;
+  TraineeView& operator=(const TraineeView&) = delete;
+
+  bool can_open() const override;
+  bool open(const ScenarioModel& scenario, const World& world, InputDevice* device,
+            std::string* error) override;
+  InputDevice& device() override;
+  void watch(LiveAttempt& live) override;
+  void show_score(const AttemptRun& run, const std::string& status) override;
+
+  /// Why a requested picture could not be written (empty: none failed).
+  const std::string& picture_error() const { return picture_error_; }
+
+ private:
+  struct Window;  // GLFW, GL and ImGui: only trainee_view.cpp knows them
+  TraineeViewOptions options_;
+  std::unique_ptr<Window> window_;
+  std::string picture_error_;
 };
-
-/// Called on the main thread once the attempt has ended, before the score screen shows (store
-/// the attempt here, so that closing the score screen loses nothing). Returns a line for the
-/// score screen (e.g. "Stored as attempt 12").
-using AttemptFinished = std::function<std::string(const AttemptRun&)>;
-
-/// Runs one attempt in a window. `device` null: the mouse and keyboard drive the instrument.
-TraineeViewOutcome run_trainee_view(const ScenarioModel& scenario, World& world,
-                                    InputDevice* device, const TraineeViewOptions& options,
-                                    const AttemptFinished& on_finished);
-
-/// True when a window can probably be opened (DISPLAY or WAYLAND_DISPLAY set).
-bool display_available();
 
 }  // namespace acdr

@@ -34,7 +34,7 @@ class InputDevice {
   /// once, after the last step.
   virtual void finish(const char* reason) {}
   /// A live device (a hand on it: a haptic bridge, the mouse) rather than a recording: it
-  /// gets its own 1 kHz loop when the attempt runs live (ui/live_attempt.hpp).
+  /// gets its own 1 kHz loop when the attempt runs live (app/live_attempt.hpp).
   virtual bool live() const { return false; }
 };
 

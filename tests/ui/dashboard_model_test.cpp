@@ -1,12 +1,16 @@
 // Tests of ui/dashboard_model: the dashboard's data from a real record (progress states,
-// learning-curve points, the drill-down's series and bands) and the CSV of each view.
+// learning-curve points, the drill-down's series, bands, benchmarks and replay geometry) and
+// the CSV of each view.
 #include "ui/dashboard_model.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <sstream>
 
+#include "engine/rigid/instrument.hpp"
+#include "scenarios/scenario_loader.hpp"
 #include "tests/db/db_test_support.hpp"
 #include "tests/ui/test_record.hpp"
 
@@ -47,10 +51,6 @@ TEST_F(DashboardModelTest, ReadsTraineesProgressAndAttempts) {
   ASSERT_EQ(ann->progress.size(), 1u);
   EXPECT_EQ(progress_state(ann->progress[0]), "mastered");
   EXPECT_EQ(progress_state(ben->progress[0]), "passed");  // passed once, not twice in a row
-  // The module's scenario was found, with its rubric (benchmarks for the drill-down).
-  const ScenarioModel* scenario = model->scenario("no-nucleus-box");
-  ASSERT_NE(scenario, nullptr);
-  EXPECT_FALSE(scenario->rubric.terms.empty());
   // Learning curve: four points for t-ann, the second not passed.
   const auto curve = curve_attempts(*ann, "no-nucleus-box");
   ASSERT_EQ(curve.size(), 4u);
@@ -97,6 +97,67 @@ TEST_F(DashboardModelTest, DrillDownHasSeriesAndOverloadBands) {
                           [](const EventRecord& e) { return e.kind == "overload_warning"; }));
   EXPECT_EQ(d->frame_at(-1.0), 0u);
   EXPECT_EQ(d->frame_at(1e9), n - 1);
+}
+
+// The drill-down reads its module's scenario once: the rubric for the benchmarks, and the
+// replay's walls and instrument, placed as the engine places them.
+TEST_F(DashboardModelTest, DrillDownHasTheBenchmarksAndTheReplayGeometry) {
+  Database db = open();
+  auto model = load_dashboard(db);
+  ASSERT_TRUE(model);
+  std::string error;
+  auto d = load_drill_down(db, model->find_trainee("t-ann")->attempts[0].id, &error);
+  ASSERT_TRUE(d) << error;
+  EXPECT_EQ(d->scenario_error, "");
+  LoadResult scenario = load_scenario_file(test::kSceneData + "empty_box.json");
+  ASSERT_TRUE(scenario.ok());
+  ASSERT_TRUE(d->rubric);
+  ASSERT_EQ(d->rubric->terms.size(), scenario.model->rubric.terms.size());
+  EXPECT_EQ(d->rubric->terms[0].metric, scenario.model->rubric.terms[0].metric);
+  // The open box: a floor and four walls; its bounds hold every tip position.
+  EXPECT_EQ(d->replay.walls.size(), 5u);
+  for (const Collider& c : d->replay.walls) EXPECT_EQ(c.kind, ColliderKind::kBox);
+  for (const Frame& f : d->recording->frames)
+    EXPECT_TRUE(d->replay.bounds.contains(f.tip_m)) << f.t_s;
+  // The instrument at a recorded grip pose is where the engine puts it.
+  const Pose grip = d->recording->frames[d->frame_at(1.5)].instrument;
+  std::vector<Collider> placed, engine;
+  d->replay.instrument_at(grip, placed);
+  InstrumentGeometry(scenario.model->world.instrument)
+      .world_colliders(grip, Vec3::Zero(), Vec3::Zero(), engine);
+  ASSERT_EQ(placed.size(), engine.size());
+  ASSERT_FALSE(placed.empty());
+  for (std::size_t i = 0; i < placed.size(); ++i) {
+    EXPECT_EQ(placed[i].pose.position, engine[i].pose.position);
+    EXPECT_EQ(placed[i].pose.orientation.coeffs(), engine[i].pose.orientation.coeffs());
+  }
+}
+
+// A scenario file gone since the attempt: the drill-down says so and shows the rest.
+TEST_F(DashboardModelTest, DrillDownWithoutItsScenarioFileStillHasItsSeries) {
+  test::TempDir dir;
+  const std::string scenario = dir.file("gone.json");
+  std::filesystem::copy_file(test::kSceneData + "empty_box.json", scenario);
+  const std::string path = dir.file("record.sqlite");
+  SessionOptions o;
+  o.scenario = scenario;
+  o.input = "replay:" + test::kSceneData + "short_scoop.csv";
+  o.db = path;
+  std::ostringstream notes;
+  const SessionResult run = run_attempt_session(o, nullptr, notes);
+  ASSERT_TRUE(run.ran()) << run.error;
+  std::filesystem::remove(scenario);
+  Database db = test::open_or_fail(path);
+  std::string error;
+  auto d = load_drill_down(db, run.attempt_id, &error);
+  ASSERT_TRUE(d) << error;
+  EXPECT_NE(d->scenario_error.find("gone.json"), std::string::npos) << d->scenario_error;
+  EXPECT_FALSE(d->rubric);
+  EXPECT_TRUE(d->replay.walls.empty());
+  EXPECT_TRUE(d->replay.instrument.empty());
+  ASSERT_TRUE(d->recording);
+  EXPECT_EQ(d->t_s.size(), d->recording->frames.size());
+  EXPECT_TRUE(d->replay.bounds.contains(d->recording->frames.back().tip_m));
 }
 
 TEST_F(DashboardModelTest, UnknownAttemptIsAnError) {

@@ -1,5 +1,5 @@
-// A training record with a few real attempts for the dashboard tests, made by `acdr run` on
-// the test box without material (fast): trainee t-ann passes, fails (a rough scoop with
+// A training record with a few real attempts for the dashboard tests, made by the attempt
+// session (what `acdr run --headless` runs) on the test box without material (fast): trainee t-ann passes, fails (a rough scoop with
 // overload warnings), then passes twice (mastered); t-ben passes once and fails once.
 // Shared by the dashboard tests, never copied.
 #pragma once
@@ -9,26 +9,23 @@
 
 #include <gtest/gtest.h>
 
-#include "ui/commands/run_command.hpp"
+#include "app/attempt_session.hpp"
+#include "tests/app/test_scenes.hpp"
 
 namespace acdr::test {
-
-inline const std::string kUiData = std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/";
 
 /// Runs one replay attempt of the empty test box into `db`; returns false on failure.
 inline bool add_replay_attempt(const std::string& db, const std::string& trainee,
                                const std::string& trajectory) {
-  RunOptions o;
-  o.scenario = kUiData + "empty_box.json";
-  o.input = "replay:" + kUiData + trajectory;
+  SessionOptions o;
+  o.scenario = kSceneData + "empty_box.json";
+  o.input = "replay:" + kSceneData + trajectory;
   o.trainee = trainee;
   o.db = db;
-  o.headless = true;
-  o.json = true;
-  std::ostringstream out, err;
-  const int code = run_run(o, out, err);
-  EXPECT_EQ(code, 0) << err.str();
-  return code == 0;
+  std::ostringstream notes;
+  const SessionResult result = run_attempt_session(o, nullptr, notes);
+  EXPECT_EQ(result.end, SessionEnd::kCompleted) << result.error << notes.str();
+  return result.end == SessionEnd::kCompleted;
 }
 
 /// The record described above, in `db`.

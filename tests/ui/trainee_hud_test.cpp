@@ -19,7 +19,7 @@ using test::Image;
 using test::Rgb;
 
 std::shared_ptr<const ScenarioModel> small_box() {
-  LoadResult loaded = load_scenario_file(test::kUiData + "small_box.json");
+  LoadResult loaded = load_scenario_file(test::kSceneData + "small_box.json");
   EXPECT_TRUE(loaded.ok()) << to_string(loaded.errors);
   return loaded.model;
 }
@@ -188,10 +188,13 @@ TEST(TraineeHud, ScoreScreenSaysWhatToImprove) {
   EXPECT_FALSE(s.passed);
   EXPECT_EQ(s.end_reason, "time limit");
   EXPECT_DOUBLE_EQ(s.duration_s, 60.0);
-  ASSERT_EQ(s.rows.size(), 2u);
+  ASSERT_EQ(s.rows.size(), 3u);  // two scored metrics, then the gate
   EXPECT_FALSE(s.rows[0].good);
-  EXPECT_NE(s.rows[0].benchmark.find("0.15"), std::string::npos) << s.rows[0].benchmark;
+  EXPECT_NE(benchmark_text(s.rows[0]).find("0.15"), std::string::npos)
+      << benchmark_text(s.rows[0]);
   EXPECT_TRUE(s.rows[1].good);
+  EXPECT_EQ(s.rows[2].judgement, MetricJudgement::kGated);
+  EXPECT_FALSE(s.rows[2].good);
   // Improvements: the weak metric with its target, the failed gate, the reason.
   ASSERT_EQ(s.improvements.size(), 3u);
   EXPECT_NE(s.improvements[0].find("aim higher"), std::string::npos) << s.improvements[0];

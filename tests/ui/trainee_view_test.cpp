@@ -1,16 +1,18 @@
 // Tests of ui/trainee_view: under a display (xvfb-run), the window opens, the attempt runs on
-// the haptic thread while the window draws, the attempt is handed over for storing before the
-// score screen, and the window's pictures show the scene and the HUD. Skipped without one.
+// the haptic thread while the window watches it, the score screen follows, and the window's
+// pictures show the scene, the HUD and the score. Skipped without one.
 #include "ui/trainee_view.hpp"
 
 #include <gtest/gtest.h>
 #include <stb_image.h>
 
+#include "app/live_attempt.hpp"
 #include "engine/devices/trajectory.hpp"
 #include "scenarios/scenario_loader.hpp"
+#include "tests/app/test_scenes.hpp"
 #include "tests/db/db_test_support.hpp"
 #include "tests/ui/image_probe.hpp"
-#include "tests/ui/test_record.hpp"
+#include "ui/display.hpp"
 
 namespace acdr {
 namespace {
@@ -29,7 +31,7 @@ test::Image load_png(const std::string& path) {
 
 TEST(TraineeView, WindowRunsTheAttemptAndShowsSceneHudAndScore) {
   if (!display_available()) GTEST_SKIP() << "no DISPLAY (run under xvfb-run to test windows)";
-  LoadResult loaded = load_scenario_file(test::kUiData + "empty_box.json");
+  LoadResult loaded = load_scenario_file(test::kSceneData + "empty_box.json");
   ASSERT_TRUE(loaded.ok());
   const ScenarioModel& scenario = *loaded.model;
   World world(scenario.world);
@@ -49,18 +51,22 @@ TEST(TraineeView, WindowRunsTheAttemptAndShowsSceneHudAndScore) {
   options.score_screenshot = dir.file("score.png");
   options.close_after_s = 0.0;
   options.input_label = "replay:test";
-  int handed_over = 0;
-  const TraineeViewOutcome outcome =
-      run_trainee_view(scenario, world, &replay, options, [&](const AttemptRun& run) {
-        ++handed_over;
-        EXPECT_EQ(run.end, AttemptEnd::kInputEnded);
-        return std::string("Stored as attempt 1 (completed)");
-      });
-  ASSERT_TRUE(outcome.ok) << outcome.error;
-  EXPECT_EQ(handed_over, 1);
-  EXPECT_EQ(outcome.run.end, AttemptEnd::kInputEnded);
+  // Driven as the attempt session drives it: open, watch the live attempt, show the score.
+  TraineeView view(options);
+  ASSERT_TRUE(view.can_open());
+  std::string error;
+  ASSERT_TRUE(view.open(scenario, world, &replay, &error)) << error;
+  EXPECT_EQ(&view.device(), &replay);
+  LiveAttempt attempt(scenario, world, view.device());
+  attempt.start();
+  view.watch(attempt);
+  EXPECT_TRUE(attempt.finished());
+  const AttemptRun run = attempt.wait();
+  EXPECT_EQ(run.end, AttemptEnd::kInputEnded);
   EXPECT_NEAR(world.time_s(), 0.5, 0.01);
-  EXPECT_GT(outcome.haptics.rate_hz, 500.0);
+  EXPECT_GT(attempt.haptic_stats().rate_hz, 500.0);
+  view.show_score(run, "Stored as attempt 1 (completed)");
+  EXPECT_EQ(view.picture_error(), "");
 
   const test::Image live = load_png(options.screenshot);
   ASSERT_GT(live.width, 0) << "no live screenshot";

@@ -1,0 +1,154 @@
+// The attempt loop.
+#include "app/attempt_runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+
+#include "assessment/metrics.hpp"
+#include "assessment/scoring.hpp"
+#include "engine/devices/trajectory.hpp"
+
+namespace acdr {
+
+const char* attempt_end_name(AttemptEnd end) {
+  switch (end) {
+    case AttemptEnd::kInputEnded: return "input ended";
+    case AttemptEnd::kTimeLimit: return "time limit";
+    case AttemptEnd::kNumericalFailure: return "numerical failure";
+    case AttemptEnd::kStopped: return "stopped";
+    case AttemptEnd::kDisconnected: return "device disconnected";
+  }
+  return "?";
+}
+
+AttemptStepper::AttemptStepper(const ScenarioModel& scenario, World& world, InputDevice& device)
+    : scenario_(scenario), world_(world), device_(device) {
+  const double dt = scenario.world.solver.dt_s;
+  const double limit = scenario.time_limit_s;
+  if (limit > 0) run_.record.frames.reserve(static_cast<std::size_t>(limit / dt) + 16);
+  run_.record.events.reserve(1024);
+  sample_.pose = scenario.world.instrument_start;
+  // Set now (it does not change) so checkpoints can compute metrics of the record so far.
+  run_.record.summary = world_.summary();
+}
+
+void AttemptStepper::set_checkpoints(double every_s, CheckpointSink sink) {
+  checkpoint_every_s_ = every_s;
+  next_checkpoint_s_ = world_.time_s() + every_s;
+  checkpoint_sink_ = std::move(sink);
+}
+
+bool AttemptStepper::step() {
+  if (ended_) return false;
+  const double dt = scenario_.world.solver.dt_s;
+  const double limit = scenario_.time_limit_s;
+  const double t_next = world_.time_s() + dt;
+  DeviceSample fresh = sample_;
+  if (device_.sample(t_next, fresh)) sample_ = fresh;
+  const Frame& frame = world_.step(sample_);
+  device_.render_force(frame.feedback_force_N);
+  run_.record.frames.push_back(frame);
+  world_.drain_events(run_.record.events);
+  if (world_.failed()) {
+    stop(AttemptEnd::kNumericalFailure);
+  } else if (sample_.disconnected) {
+    run_.record.events.push_back(Event{world_.time_s(), EventKind::kDeviceDisconnected,
+                                       sample_.silence_s, "no device packet within the timeout"});
+    stop(AttemptEnd::kDisconnected);
+  } else if (sample_.end) {
+    stop(AttemptEnd::kInputEnded);
+  } else if (limit > 0 && world_.time_s() >= limit - 0.5 * dt) {
+    stop(AttemptEnd::kTimeLimit);
+  }
+  // Half a step of slack so a checkpoint lands on the step that reaches its time.
+  if (checkpoint_sink_ && checkpoint_every_s_ > 0 && !ended_ &&
+      world_.time_s() >= next_checkpoint_s_ - 0.5 * dt) {
+    if (checkpoint_sink_(CheckpointView{run_.record, checkpointed_frames_, checkpointed_events_,
+                                        world_.time_s()})) {
+      checkpointed_frames_ = run_.record.frames.size();
+      checkpointed_events_ = run_.record.events.size();
+    }
+    next_checkpoint_s_ += checkpoint_every_s_;
+  }
+  return !ended_;
+}
+
+void AttemptStepper::stop(AttemptEnd why) {
+  if (ended_) return;
+  ended_ = true;
+  end_ = why;
+}
+
+AttemptRun AttemptStepper::finish(double wall_s) {
+  run_.end = end_;
+  run_.wall_s = wall_s;
+  run_.record.events.push_back(
+      Event{world_.time_s(), EventKind::kAttemptEnd, 0.0, attempt_end_name(run_.end)});
+  run_.record.summary = world_.summary();
+  run_.metrics = compute_metrics(run_.record);
+  run_.score = score_attempt(run_.metrics, scenario_.rubric);
+  run_.state_hash = world_.state_hash();
+  device_.finish(attempt_end_name(run_.end));
+  return std::move(run_);
+}
+
+AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
+                       const StepObserver& observer) {
+  return run_attempt(scenario, world, device, observer, 0.0, {});
+}
+
+AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice& device,
+                       const StepObserver& observer, double checkpoint_every_s,
+                       CheckpointSink checkpoint_sink) {
+  AttemptStepper stepper(scenario, world, device);
+  if (checkpoint_sink) stepper.set_checkpoints(checkpoint_every_s, std::move(checkpoint_sink));
+  const auto start = std::chrono::steady_clock::now();
+  for (;;) {
+    const bool more = stepper.step();
+    if (observer && !observer(world, world.last_frame()) && more) {
+      stepper.stop(AttemptEnd::kStopped);
+      break;
+    }
+    if (!more) break;
+  }
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stepper.finish(wall);
+}
+
+std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error,
+                                        double udp_disconnect_timeout_s) {
+  const auto colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon);
+  const std::string arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  if (kind == "replay") {
+    if (arg.empty()) {
+      *error = "--input replay:FILE needs a trajectory file (got '" + spec + "')";
+      return nullptr;
+    }
+    auto trajectory = Trajectory::load_csv(arg, error);
+    if (!trajectory) return nullptr;
+    return std::make_unique<TrajectoryReplay>(std::move(*trajectory));
+  }
+  if (kind == "udp") {
+    char* end = nullptr;
+    const long port = std::strtol(arg.c_str(), &end, 10);
+    if (arg.empty() || *end != '\0' || port < 1 || port > 65535) {
+      *error = "--input udp:PORT needs a port number 1-65535 (got '" + spec + "')";
+      return nullptr;
+    }
+    UdpDeviceOptions options;
+    options.port = static_cast<int>(port);
+    options.disconnect_timeout_s = udp_disconnect_timeout_s;
+    return UdpDevice::open(options, error);
+  }
+  if (kind == "mouse") {
+    *error = "--input mouse needs a window (drop --headless, and run with a display)";
+    return nullptr;
+  }
+  *error = "unknown input '" + spec + "' (expected replay:FILE, udp:PORT or mouse)";
+  return nullptr;
+}
+
+}  // namespace acdr

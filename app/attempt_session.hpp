@@ -1,0 +1,101 @@
+// One attempt from its scenario file to its stored record, as one library call. In order:
+// load the scenario; open the input device (a replay or a haptic bridge; the mouse belongs to
+// the view); open the record, register the module and its curriculum, check the progression
+// gate and begin the attempt (its row exists from the start, so a crash leaves a trace); run
+// it, headless as fast as it steps, or live on the haptic thread (a bridge, or a window the
+// session drives through AttemptView), with periodic checkpoints; store it, completed or
+// aborted; and hand back what happened for the caller to show. Nothing here draws or prints a
+// result.
+#pragma once
+
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "app/attempt_runner.hpp"
+#include "app/attempt_view.hpp"
+#include "app/live_attempt_checkpoints.hpp"
+#include "engine/devices/haptic_loop.hpp"
+#include "engine/devices/udp_device.hpp"
+#include "engine/world/world.hpp"
+#include "scenarios/scenario_model.hpp"
+
+namespace acdr {
+
+struct SessionOptions {
+  std::string scenario;  ///< scenario file (JSON)
+  /// replay:FILE (a recorded trajectory), udp:PORT (a haptic bridge on loopback, see
+  /// docs/haptic-bridge.md) or mouse (mouse and keyboard; the view's own device).
+  std::string input = "replay:";
+  std::optional<std::string> trainee;  ///< none: a practice attempt (never locked)
+  bool override_lock = false;     ///< an instructor lets the trainee take a locked module
+  std::string override_by;        ///< who decided (required with override_lock)
+  std::string override_reason;
+  std::string db;                 ///< empty: default_database_path()
+  std::string record;             ///< also write the recording to this file, when set
+  /// udp: how long to wait for the bridge's first packet, and the disconnect timeout (s).
+  double device_timeout_s = 5.0;
+  /// Run the haptic loop with real-time priority when the OS grants it (haptics.realtime).
+  bool realtime = false;
+  /// Store a checkpoint (recording so far, events, metrics) every this many simulated seconds,
+  /// so a killed run leaves an aborted attempt with what was recorded (0: never). A headless
+  /// replay writes it on its stepping thread; a live attempt (window, bridge) on a writer
+  /// thread of its own, so the physics loop never waits for it.
+  double checkpoint_every_s = 5.0;
+  /// No progress notes (waiting for the bridge); warnings still come.
+  bool quiet = false;
+};
+
+/// How the session ended.
+enum class SessionEnd {
+  kCompleted,         ///< the attempt ran to its end and was stored (passed or not)
+  kNumericalFailure,  ///< the simulation failed numerically; stored as completed
+  kAbandoned,         ///< stopped before its end by the trainee; stored as aborted
+  kBadInput,          ///< scenario, input, record, bridge, window or store refused (`error`)
+  kLocked,            ///< the module is locked for this trainee (`error` says why)
+};
+
+/// How a live device drove the attempt: the haptic loop's achieved rate and the link's figures
+/// (the UDP bridge's, when there was one).
+struct HapticsReport {
+  HapticLoopStats loop;     ///< the device loop (the only loop for a replay)
+  bool decoupled = false;   ///< the physics had a loop of its own (a live device)
+  HapticLoopStats physics;  ///< that loop, when decoupled
+  std::int64_t device_ticks_clamped = 0;  ///< device-loop forces clamped to the maximum
+  std::int64_t device_ticks_zeroed = 0;   ///< device-loop forces zeroed (stale/NaN/jump)
+  bool has_link = false;
+  UdpDeviceStats link;
+};
+
+/// What the checkpoints of a live attempt cost (its writer thread's figures).
+struct CheckpointReport {
+  double every_s = 0.0;
+  LiveCheckpointStats stats;
+};
+
+struct SessionResult {
+  SessionEnd end = SessionEnd::kBadInput;
+  /// kBadInput, kLocked: what is wrong, one or more lines without the last line break.
+  std::string error;
+  std::shared_ptr<const ScenarioModel> scenario;  ///< set once loaded
+  std::unique_ptr<World> world;  ///< the final state, once the attempt ran
+  AttemptRun run;
+  std::int64_t attempt_id = 0;
+  std::string db_path;
+  std::string stored_as;  ///< "completed" or "aborted"
+  std::optional<HapticsReport> haptics;         ///< a live attempt (window, bridge)
+  std::optional<CheckpointReport> checkpoints;  ///< a live attempt's checkpoint writer
+
+  /// The attempt ran and was stored.
+  bool ran() const { return end != SessionEnd::kBadInput && end != SessionEnd::kLocked; }
+};
+
+/// Runs one attempt as described above. `view` null, or one that cannot open: headless (a
+/// note on `notes` in the latter case). Notes and warnings (no display, waiting for the
+/// bridge, checkpoints refused) go to `notes` as they happen; the result says the rest.
+SessionResult run_attempt_session(const SessionOptions& options, AttemptView* view,
+                                  std::ostream& notes);
+
+}  // namespace acdr

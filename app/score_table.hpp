@@ -1,0 +1,54 @@
+// An attempt's metrics against their benchmarks, as every table of them shows it (the score
+// screen at the end of an attempt, the dashboard's drill-down, the terminal summary of `acdr
+// run`): one row per metric with its value, how the rubric judged it (scored against the
+// experts, held to a safety gate, or not assessed), its benchmark and its score. Plain data:
+// the views draw the rows (ui/score_table_view.hpp), the command line prints them.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "assessment/attempt_result.hpp"
+#include "assessment/rubric.hpp"
+
+namespace acdr {
+
+/// How the rubric judged a metric.
+enum class MetricJudgement {
+  kScored,       ///< a term of the composite score, against the experts' mean and spread
+  kGated,        ///< a safety gate: must stay at or below its maximum
+  kNotAssessed,  ///< recorded, not judged
+};
+
+struct ScoreTableRow {
+  std::string metric;  ///< id, e.g. "peak_instrument_force_N"
+  std::string label;   ///< in words, e.g. "Peak instrument force (N)"
+  double value = 0.0;
+  MetricJudgement judgement = MetricJudgement::kNotAssessed;
+  double score = 0.0;     ///< kScored: 0..100
+  double gate_max = 0.0;  ///< kGated: the most allowed
+  /// kScored: at or better than the experts' mean (score >= 50); kGated: held; else true.
+  bool good = true;
+  std::optional<RubricTerm> benchmark;  ///< kScored, when the rubric is known
+};
+
+/// Which metrics a table lists.
+enum class ScoreTableScope {
+  kAssessed,    ///< the scored terms, then the safety gates, as `score` lists them
+  kAllMetrics,  ///< every metric of `metrics` once, in its order (a scored metric as scored)
+};
+
+/// The rows of `score` (and, for kAllMetrics, `metrics`), with each scored metric's benchmark
+/// from `rubric` (null: not known).
+std::vector<ScoreTableRow> score_table(const Metrics& metrics, const ScoreResult& score,
+                                       const Rubric* rubric, ScoreTableScope scope);
+
+/// The benchmark column: "experts 0.15 ± 0.05, higher is better" (scored), "at most 0"
+/// (gated), "benchmark unknown" (scored, rubric not known), "" (not assessed).
+std::string benchmark_text(const ScoreTableRow& row);
+
+/// A human label for a metric name ("peak_instrument_force_N" -> "Peak instrument force (N)").
+std::string metric_label(const std::string& metric);
+
+}  // namespace acdr

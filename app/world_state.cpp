@@ -1,0 +1,30 @@
+// Capturing the moving part of a World.
+#include "app/world_state.hpp"
+
+namespace acdr {
+
+void capture_world_state(const World& world, WorldState& out) {
+  out.frame = world.last_frame();
+  out.instrument.assign(world.instrument_colliders().begin(), world.instrument_colliders().end());
+  const Nucleus* nucleus = world.nucleus();
+  if (!nucleus) {
+    out.positions.clear();
+    out.particle_class.clear();
+    return;
+  }
+  const WorldConfig& config = world.config();
+  const auto positions = nucleus->positions();
+  const auto materials = nucleus->materials();
+  out.positions.resize(positions.size());
+  out.particle_class.resize(positions.size());
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    out.positions[i] = positions[i].cast<float>();
+    const bool target = materials[i] < config.nucleus.materials.size() &&
+                        config.nucleus.materials[materials[i]].counts_as_target;
+    out.particle_class[i] = world.is_removed(i) ? ParticleClass::kRemoved
+                            : target           ? ParticleClass::kTarget
+                                               : ParticleClass::kProtected;
+  }
+}
+
+}  // namespace acdr

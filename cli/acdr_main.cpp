@@ -1,0 +1,201 @@
+// The `acdr` program: parses arguments and calls the libraries. Nothing else lives here.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "cli/bench_command.hpp"
+#include "cli/dashboard_command.hpp"
+#include "cli/device_sim_command.hpp"
+#include "cli/make_trajectory_command.hpp"
+#include "cli/render_command.hpp"
+#include "cli/report_command.hpp"
+#include "cli/rescore_command.hpp"
+#include "cli/run_command.hpp"
+#include "cli/stress_command.hpp"
+#include "cli/validate_command.hpp"
+#include "cli/verify_command.hpp"
+
+
+int main(int argc, char** argv) {
+  CLI::App app{"ACDR Trainer: scooping simulation and assessment for artificial cervical disc "
+               "replacement"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", ACDR_VERSION_STRING);
+  int code = 0;
+
+  // acdr run
+  acdr::RunOptions run;
+  auto* run_cmd = app.add_subcommand("run", "Run one attempt of a scenario (module)");
+  run_cmd->add_option("scenario", run.scenario, "Scenario file (JSON)")->required();
+  run_cmd->add_option("--input", run.input,
+                      "replay:FILE (a recorded trajectory, CSV), udp:PORT (a haptic device "
+                      "bridge, docs/haptic-bridge.md) or mouse (window only)")
+      ->required();
+  run_cmd->add_option("--trainee", run.trainee, "Trainee id (omit for a practice attempt)");
+  run_cmd->add_flag("--override", run.override_lock,
+                    "Let the trainee take a locked module (an instructor's decision, recorded)");
+  run_cmd->add_option("--override-by", run.override_by, "Who allowed the override");
+  run_cmd->add_option("--override-reason", run.override_reason, "Why");
+  run_cmd->add_option("--db", run.db, "Database file (default: $ACDR_DB or the data directory)");
+  run_cmd->add_option("--png", run.png, "Write a picture of the final frame");
+  run_cmd->add_option("--record", run.record, "Also write the attempt's recording to a file");
+  run_cmd->add_flag("--json", run.json, "Print the result as JSON on stdout");
+  run_cmd->add_flag("--headless", run.headless,
+                    "No window (default: a window when a display exists)");
+  run_cmd->add_option("--device-timeout", run.device_timeout_s,
+                      "udp: seconds to wait for the bridge, and without packets before the "
+                      "attempt ends as disconnected (default 5)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--checkpoint-every", run.checkpoint_every_s,
+                      "Save the attempt so far every this many simulated seconds, so a "
+                      "killed run keeps it (default 5; 0: never); live runs write it on a "
+                      "thread of their own")
+      ->check(CLI::NonNegativeNumber);
+  run_cmd->add_flag("--realtime", run.realtime,
+                    "Ask for real-time priority for the haptic loop (needs the privilege)");
+  run_cmd->add_option("--screenshot", run.screenshot,
+                      "Window: save a picture of the trainee view (PNG)");
+  run_cmd->add_option("--screenshot-at", run.screenshot_at_s,
+                      "Window: simulated time of that picture in s (default: the last frame)");
+  run_cmd->add_option("--score-screenshot", run.score_screenshot,
+                      "Window: save a picture of the score screen (PNG)");
+  run_cmd->add_option("--close-after", run.close_after_s,
+                      "Window: close the score screen after this many seconds");
+  run_cmd->callback([&] { code = acdr::run_run(run, std::cout, std::cerr); });
+
+  // acdr dashboard
+  acdr::DashboardOptions dash;
+  auto* dash_cmd = app.add_subcommand("dashboard", "The instructor dashboard");
+  dash_cmd->add_option("--db", dash.db, "Database file (default: $ACDR_DB or the data directory)");
+  dash_cmd->add_option("--screenshot", dash.screenshot,
+                       "Render one frame offscreen to this PNG and exit");
+  dash_cmd->add_option("--export-csv", dash.export_csv,
+                       "Write the selected view's CSV to this file and exit");
+  dash_cmd->add_option("--width", dash.width, "Width in pixels")->check(CLI::Range(320, 8192));
+  dash_cmd->add_option("--height", dash.height, "Height in pixels")->check(CLI::Range(240, 8192));
+  dash_cmd->add_option("--trainee", dash.trainee, "Select this trainee");
+  dash_cmd->add_option("--module", dash.module, "Learning curve of this module");
+  dash_cmd->add_option("--attempt", dash.attempt, "Open this attempt (0: none)");
+  dash_cmd->add_option("--replay-t", dash.replay_t_s, "Replay cursor time (s)");
+  dash_cmd->add_option("--export-dir", dash.export_dir,
+                       "Where the window's Export CSV button writes (default .)");
+  dash_cmd->callback([&] { code = acdr::run_dashboard(dash, std::cout, std::cerr); });
+
+  // acdr device-sim
+  acdr::DeviceSimOptions sim;
+  auto* sim_cmd = app.add_subcommand(
+      "device-sim", "A virtual haptic device: plays a trajectory over the UDP bridge protocol");
+  sim_cmd->add_option("--port", sim.bridge.port, "The simulator's UDP port (acdr run --input "
+                                                  "udp:PORT)")
+      ->required()
+      ->check(CLI::Range(1, 65535));
+  sim_cmd->add_option("--trajectory", sim.trajectory, "Trajectory CSV to play")->required();
+  sim_cmd->add_option("--host", sim.bridge.host, "The simulator's address (default 127.0.0.1)");
+  sim_cmd->add_option("--rate", sim.bridge.rate_hz, "Pose packets per second (default 1000)")
+      ->check(CLI::Range(1.0, 20000.0));
+  sim_cmd->add_option("--forces-csv", sim.forces_csv, "Log the forces received to a CSV file");
+  sim_cmd->add_option("--connect-timeout", sim.bridge.connect_timeout_s,
+                      "Seconds to wait for the simulator to answer (default 30)");
+  sim_cmd->add_option("--drop-every", sim.bridge.drop_every,
+                      "Fault: withhold every n-th pose packet");
+  sim_cmd->add_option("--silence-at", sim.bridge.silence_at_s,
+                      "Fault: stop sending at this trajectory time (s) ...");
+  sim_cmd->add_option("--silence-for", sim.bridge.silence_for_s, "... for this long (s)");
+  sim_cmd->add_option("--nan-at", sim.bridge.nan_at_s, "Fault: one NaN pose at this time (s)");
+  sim_cmd->add_option("--jump-at", sim.bridge.jump_at_s,
+                      "Fault: poses jump by --jump-mm along x from this time (s) for 20 ms");
+  double jump_mm = 50.0;
+  sim_cmd->add_option("--jump-mm", jump_mm, "Size of that jump (mm, default 50)");
+  sim_cmd->add_flag("--realtime", sim.bridge.realtime_priority,
+                    "Ask for real-time priority for the send loop (needs the privilege)");
+  sim_cmd->add_flag("--json", sim.json, "Print the summary as JSON");
+  sim_cmd->callback([&] {
+    sim.bridge.jump_m = jump_mm * 1e-3;
+    code = acdr::run_device_sim(sim, std::cout, std::cerr);
+  });
+
+  // acdr validate
+  std::vector<std::string> validate_files;
+  auto* validate_cmd = app.add_subcommand("validate", "Check scenario files");
+  validate_cmd->add_option("files", validate_files, "Scenario files")->required();
+  validate_cmd->callback([&] { code = acdr::run_validate(validate_files, std::cout); });
+
+  // acdr report
+  acdr::ReportOptions report;
+  auto* report_cmd = app.add_subcommand("report", "Attempts and progress from the database");
+  report_cmd->add_option("--db", report.db_path, "Database file");
+  report_cmd->add_option("--trainee", report.trainee, "Only this trainee");
+  report_cmd->add_option("--module", report.module, "Only this module");
+  report_cmd->add_option("--format", report.format, "table, csv, json or xapi")
+      ->check(CLI::IsMember({"table", "csv", "json", "xapi"}));
+  report_cmd->callback([&] { code = acdr::run_report(report, std::cout, std::cerr); });
+
+  // acdr verify
+  acdr::VerifyOptions verify;
+  auto* verify_cmd = app.add_subcommand(
+      "verify", "Analytic verification of the physics (seed Eq. 1-11 and more)");
+  verify_cmd->add_option("cases", verify.case_files, "Case files (JSON); none: built-in cases");
+  verify_cmd->add_flag("--json", verify.json, "Print the results as JSON");
+  verify_cmd->add_flag("--fast", verify.fast, "Smaller scenes, same tolerances");
+  verify_cmd->callback([&] { code = acdr::run_verify(verify, std::cout, std::cerr); });
+
+  // acdr stress
+  acdr::StressOptions stress;
+  auto* stress_cmd = app.add_subcommand(
+      "stress", "Numerical stability suite: time step, stiffness, viscosity, speed, bad input");
+  stress_cmd->add_flag("--json", stress.json, "Print the results as JSON");
+  stress_cmd->add_flag("--fast", stress.fast, "Coarser particles and shorter holds");
+  stress_cmd->callback([&] { code = acdr::run_stress(stress, std::cout, std::cerr); });
+
+  // --- acdr bench ---
+  acdr::BenchOptions bench;
+  auto* bench_cmd = app.add_subcommand(
+      "bench", "Work-precision benchmark: run time against error, Bullet soft-body peer, "
+               "scaling with particle count, skips");
+  bench_cmd->add_flag("--quick", bench.quick, "Small grid on a coarser lattice (< 2 minutes)");
+  bench_cmd->add_option("--csv", bench.csv, "Also write every figure as CSV");
+  bench_cmd->add_flag("--json", bench.json, "Print the results as JSON");
+  bench_cmd->add_option("--png", bench.png, "Work-precision plot (PNG; empty string: none)");
+  bench_cmd->add_option("--scene", bench.scenes,
+                        "NAME=SCENARIO.json:TRAJECTORY.csv[@WINDOW_START_S] (default: the box and healthy C4-C5 modules)");
+  bench_cmd->callback([&] { code = acdr::run_bench(bench, std::cout, std::cerr); });
+
+  // acdr render
+  acdr::RenderOptions render;
+  auto* render_cmd = app.add_subcommand("render", "Offscreen picture of a scenario's scene");
+  render_cmd->add_option("scenario", render.scenario, "Scenario file (JSON)")->required();
+  render_cmd->add_option("--png", render.png, "Output PNG")->required();
+  render_cmd->add_option("--width", render.width, "Width in pixels");
+  render_cmd->add_option("--height", render.height, "Height in pixels");
+  render_cmd->callback([&] { code = acdr::run_render(render, std::cout, std::cerr); });
+
+  // acdr rescore
+  acdr::RescoreOptions rescore;
+  auto* rescore_cmd =
+      app.add_subcommand("rescore", "Re-score stored attempts from their recordings");
+  rescore_cmd->add_option("--db", rescore.db, "Database file");
+  rescore_cmd->add_option("--trainee", rescore.trainee, "Only this trainee's attempts");
+  rescore_cmd->add_option("--module", rescore.module, "Only attempts at this module");
+  rescore_cmd->add_option("--attempt", rescore.attempt, "Only this attempt id");
+  rescore_cmd->add_flag("--dry-run", rescore.dry_run, "Compute and print, store nothing");
+  rescore_cmd->callback([&] { code = acdr::run_rescore(rescore, std::cout, std::cerr); });
+
+  // acdr make-trajectory
+  std::string waypoints, trajectory_out;
+  double rate_hz = 100.0;
+  auto* traj_cmd = app.add_subcommand(
+      "make-trajectory", "Sample a smooth (minimum-jerk) trajectory from a waypoint CSV");
+  traj_cmd->add_option("waypoints", waypoints, "Waypoint CSV")->required();
+  traj_cmd->add_option("output", trajectory_out, "Trajectory CSV to write")->required();
+  traj_cmd->add_option("--rate", rate_hz, "Samples per second")->check(CLI::Range(1.0, 10000.0));
+  traj_cmd->callback([&] {
+    code = acdr::run_make_trajectory(waypoints, trajectory_out, rate_hz, std::cout, std::cerr);
+  });
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return code;
+}

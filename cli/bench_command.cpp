@@ -1,0 +1,114 @@
+// Formatting of `acdr bench`: table, JSON, CSV and the PNG plot around the bench library.
+#include "cli/bench_command.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <memory>
+#include <sstream>
+#include <unistd.h>
+
+#include "bench/bench_report_format.hpp"
+#include "bench/bench_suite.hpp"
+#include "bench/work_precision_plot.hpp"
+#include "ui/offscreen_render.hpp"
+#include "ui/png_writer.hpp"
+#include "ui/scene_snapshot.hpp"
+
+namespace acdr {
+
+int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err) {
+  BenchConfig config;
+  config.quick = options.quick;
+  config.grid = default_grid(options.quick);
+  if (options.scenes.empty()) {
+    // The standard scoops: the box demo's blade meets the material at ~1.0 s (force peaks at
+    // ~1.25 s, then the blade sweeps through at 10 mm/s); the expert's cup plunges into the
+    // C4-C5 nucleus until 1.65 s and sweeps through it from 1.65 to 2.8 s
+    // (content/trajectories/c4c5_expert.cup.csv); its window starts at 1.5 s, the phase at
+    // which the 1.8 s start caught the slower session-5 expert (docs/performance.md).
+    config.scenes.push_back({"box", "scenarios/modules/01_box_warmup.json",
+                             "content/trajectories/box_demo.csv", 1.0});
+    config.scenes.push_back({"c4c5", "scenarios/modules/02_c4c5_healthy.json",
+                             "content/trajectories/c4c5_expert.csv", 1.5});
+  }
+  for (const std::string& spec : options.scenes) {
+    const auto eq = spec.find('=');
+    const auto colon = spec.rfind(':');
+    if (eq == std::string::npos || colon == std::string::npos || colon < eq) {
+      err << "acdr bench: --scene '" << spec << "': expected NAME=SCENARIO.json:TRAJECTORY.csv\n";
+      return 2;
+    }
+    // NAME=SCENARIO:TRAJECTORY[@START_S]
+    std::string trajectory = spec.substr(colon + 1);
+    double start_s = 0.0;
+    if (const auto at = trajectory.rfind('@'); at != std::string::npos) {
+      start_s = std::atof(trajectory.c_str() + at + 1);
+      trajectory.resize(at);
+    }
+    config.scenes.push_back(
+        {spec.substr(0, eq), spec.substr(eq + 1, colon - eq - 1), trajectory, start_s});
+  }
+  // Progress: one rewritten line on a terminal, a line per stage otherwise.
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  std::string last;
+  config.progress = [&](const std::string& what, double fraction) {
+    if (tty) {
+      err << "\r[" << std::setw(3) << static_cast<int>(fraction * 100) << "%] " << std::left
+          << std::setw(70) << what.substr(0, 70) << std::right << std::flush;
+      if (what == "done") err << "\n";
+    } else if (what != last) {
+      err << "[" << std::setw(3) << static_cast<int>(fraction * 100) << "%] " << what << "\n";
+    }
+    last = what;
+  };
+  // The headless skip's "off" side: an offscreen frame of the world at ~60 Hz.
+  std::unique_ptr<OffscreenRenderer> renderer;
+  std::vector<std::uint8_t> frame;
+  if (options.render) {
+    std::string render_error;
+    renderer = OffscreenRenderer::create(640, 400, &render_error, 1);
+    if (renderer) {
+      config.render_frame = [&](const World& world) {
+        std::string e;
+        renderer->render(snapshot_world(world, 640.0f / 400.0f), &frame, &e);
+      };
+    } else {
+      err << "acdr bench: no offscreen renderer (" << render_error
+          << "); the headless skip is not measured\n";
+    }
+  }
+
+  BenchReport report;
+  std::string error;
+  if (!run_bench_suite(config, &report, &error)) {
+    err << "acdr bench: " << error << "\n";
+    return 2;
+  }
+  if (options.json) {
+    out << bench_report_json(report).dump(2) << "\n";
+  } else {
+    write_bench_table(report, out);
+  }
+  if (!options.csv.empty()) {
+    std::ofstream f(options.csv);
+    if (!f) {
+      err << "acdr bench: cannot write " << options.csv << "\n";
+      return 2;
+    }
+    write_bench_csv(report, f);
+  }
+  if (!options.png.empty()) {
+    const PlotImage img = plot_work_precision(report);
+    std::string png_error;
+    if (!write_png_rgb(options.png, img.width, img.height, img.rgb, &png_error)) {
+      err << "acdr bench: " << png_error << "\n";
+      return 2;
+    }
+    if (!options.json) out << "plot: " << options.png << "\n";
+  }
+  return 0;
+}
+
+}  // namespace acdr

@@ -1,0 +1,41 @@
+// `acdr report`: see report_command.hpp.
+#include "cli/report_command.hpp"
+
+#include "db/attempt_store.hpp"
+#include "db/database.hpp"
+#include "db/report.hpp"
+
+namespace acdr {
+
+int run_report(const ReportOptions& options, std::ostream& out, std::ostream& err) {
+  const std::optional<ReportFormat> format = parse_report_format(options.format);
+  if (!format) {
+    err << "acdr report: --format '" << options.format
+        << "' is not known (expected table, csv, json or xapi)\n";
+    return 2;
+  }
+  const std::string path = options.db_path.empty() ? default_database_path() : options.db_path;
+  OpenOptions open_options;
+  open_options.create = false;  // a report never starts an empty record
+  DbResult<Database> db = open_store(path, open_options);
+  if (!db) {
+    err << "acdr report: " << db.error().message << '\n';
+    return 1;
+  }
+  ReportRequest request;
+  request.trainee_id = options.trainee;
+  request.module_id = options.module;
+  request.format = *format;
+  request.include_practice = options.include_practice;
+  if (!options.xapi_base_iri.empty()) request.xapi.base_iri = options.xapi_base_iri;
+  if (!options.xapi_account_home_page.empty()) {
+    request.xapi.account_home_page = options.xapi_account_home_page;
+  }
+  if (DbStatus s = write_report(db.value(), request, out); !s) {
+    err << "acdr report: " << s.error().message << '\n';
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace acdr

@@ -1,0 +1,281 @@
+// Tests of app/attempt_session: one attempt from its scenario file to the record, headless and
+// live through a view (a test double here: the session needs no screen). Refusals come before
+// anything is stored; the progression gate locks a module unless an instructor overrides; a
+// live attempt is stored before its score shows; an abandoned one is stored as aborted; a view
+// that cannot open leaves the attempt headless or aborted, as the case may be.
+#include "app/attempt_session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "db/attempt_store.hpp"
+#include "engine/devices/trajectory.hpp"
+#include "tests/app/test_scenes.hpp"
+#include "tests/db/db_test_support.hpp"
+
+namespace acdr {
+namespace {
+
+using namespace std::chrono_literals;
+
+// A 0.3 s trajectory from the test box's start pose, 3 mm down (live attempts run in real time).
+std::string write_short_trajectory(const test::TempDir& dir) {
+  const std::string path = dir.file("short.csv");
+  std::ofstream out(path);
+  out << "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n";
+  for (int i = 0; i <= 6; ++i)
+    out << 0.05 * i << ",0,0," << 0.11 - 0.0005 * i << ",1,0,0,0\n";
+  return path;
+}
+
+// The test box as module `id` at `order` in curriculum "t-course".
+std::string write_module(const test::TempDir& dir, const std::string& id, int order) {
+  std::ifstream in(test::kSceneData + "empty_box.json");
+  nlohmann::json s = nlohmann::json::parse(in);
+  s["id"] = id;
+  s["curriculum"] = "t-course";
+  s["module_order"] = order;
+  const std::string path = dir.file(id + ".json");
+  std::ofstream(path) << s.dump(2);
+  return path;
+}
+
+SessionOptions replay_options(const test::TempDir& dir, const std::string& trajectory) {
+  SessionOptions o;
+  o.scenario = test::kSceneData + "empty_box.json";
+  o.input = "replay:" + trajectory;
+  o.db = dir.file("record.sqlite");
+  return o;
+}
+
+AttemptRecord stored(const std::string& db_path, std::int64_t id) {
+  Database db = test::open_or_fail(db_path);
+  auto loaded = load_attempt(db, id);
+  EXPECT_TRUE(loaded && loaded.value()) << "attempt " << id;
+  return loaded && loaded.value() ? *loaded.value() : AttemptRecord{};
+}
+
+TEST(AttemptSession, AHeadlessReplayIsStoredWithItsRecording) {
+  test::TempDir dir;
+  SessionOptions o = replay_options(dir, test::kSceneData + "short_scoop.csv");
+  o.trainee = "t1";
+  o.record = dir.file("attempt.rec");
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, nullptr, notes);
+  ASSERT_TRUE(r.ran()) << r.error;
+  EXPECT_EQ(r.end, SessionEnd::kCompleted);
+  EXPECT_EQ(r.stored_as, "completed");
+  EXPECT_EQ(r.run.end, AttemptEnd::kInputEnded);
+  ASSERT_TRUE(r.world);
+  EXPECT_NEAR(r.world->time_s(), 3.0, 0.01);
+  EXPECT_FALSE(r.haptics);      // not a live attempt
+  EXPECT_FALSE(r.checkpoints);  // checkpoints on the stepping thread: no writer thread
+  EXPECT_EQ(r.db_path, o.db);
+  const AttemptRecord a = stored(o.db, r.attempt_id);
+  EXPECT_EQ(a.status, AttemptStatus::kCompleted);
+  EXPECT_EQ(a.input_device, o.input);
+  EXPECT_EQ(a.module_id, "no-nucleus-box");
+  ASSERT_TRUE(a.recording);
+  EXPECT_EQ(a.metrics.values, r.run.metrics.values);
+  // The recording file is the stored recording.
+  std::ifstream file(o.record, std::ios::binary);
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)),
+                                        std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes, a.recording->bytes);
+}
+
+TEST(AttemptSession, BadFilesAndInputsAreRefusedBeforeTheRecordIsOpened) {
+  test::TempDir dir;
+  const std::string trajectory = test::kSceneData + "short_scoop.csv";
+  struct Case {
+    std::string scenario, input, expect;
+  };
+  const std::vector<Case> cases = {
+      {dir.file("missing.json"), "replay:" + trajectory, "missing.json"},
+      {test::kSceneData + "empty_box.json", "joystick", "unknown input 'joystick'"},
+      {test::kSceneData + "empty_box.json", "udp:70000", "port number 1-65535"},
+      {test::kSceneData + "empty_box.json", "replay:" + dir.file("none.csv"), "none.csv"},
+      // Without a view the mouse has nothing to drive it.
+      {test::kSceneData + "empty_box.json", "mouse", "--input mouse needs a window"},
+  };
+  for (const Case& c : cases) {
+    SessionOptions o = replay_options(dir, trajectory);
+    o.scenario = c.scenario;
+    o.input = c.input;
+    std::ostringstream notes;
+    const SessionResult r = run_attempt_session(o, nullptr, notes);
+    EXPECT_EQ(r.end, SessionEnd::kBadInput) << c.input;
+    EXPECT_NE(r.error.find(c.expect), std::string::npos) << r.error;
+    EXPECT_NE(r.error.back(), '\n');
+    EXPECT_FALSE(std::filesystem::exists(o.db)) << c.input;
+  }
+}
+
+TEST(AttemptSession, ALockedModuleIsRefusedUnlessAnInstructorOverrides) {
+  test::TempDir dir;
+  const std::string trajectory = write_short_trajectory(dir);
+  std::ostringstream notes;
+  // The first module registers the curriculum; the second then waits for its mastery.
+  SessionOptions first = replay_options(dir, trajectory);
+  first.scenario = write_module(dir, "t-first", 1);
+  ASSERT_TRUE(run_attempt_session(first, nullptr, notes).ran());
+  SessionOptions second = first;
+  second.scenario = write_module(dir, "t-second", 2);
+  second.trainee = "t1";
+  SessionResult r = run_attempt_session(second, nullptr, notes);
+  EXPECT_EQ(r.end, SessionEnd::kLocked);
+  EXPECT_NE(r.error.find("t-first"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("with --override --override-by NAME"), std::string::npos) << r.error;
+  // An override needs the name of who decided.
+  second.override_lock = true;
+  r = run_attempt_session(second, nullptr, notes);
+  EXPECT_EQ(r.end, SessionEnd::kBadInput);
+  EXPECT_EQ(r.error, "--override needs --override-by NAME (who decided)");
+  second.override_by = "dr-who";
+  second.override_reason = "demonstration";
+  r = run_attempt_session(second, nullptr, notes);
+  ASSERT_EQ(r.end, SessionEnd::kCompleted) << r.error;
+  const AttemptRecord a = stored(second.db, r.attempt_id);
+  EXPECT_TRUE(a.override_lock);
+  EXPECT_EQ(a.override_by, "dr-who");
+  EXPECT_EQ(a.trainee_id, std::optional<std::string>("t1"));
+}
+
+// A view without a window: it watches the live attempt by polling it, and records what the
+// session asked of it.
+class FakeView final : public AttemptView {
+ public:
+  bool available = true;
+  std::string open_error;          ///< non-empty: open() fails with it
+  bool close_window = false;       ///< the trainee closes the window during the attempt
+  std::unique_ptr<InputDevice> own;  ///< the view's own device (the mouse, in a real view)
+  std::string db_path;             ///< to check the attempt is stored before the score shows
+
+  std::vector<std::string> calls;
+  InputDevice* given = nullptr;
+  std::string status;
+  std::optional<AttemptStatus> status_at_score;
+
+  bool can_open() const override { return available; }
+  bool open(const ScenarioModel&, const World& world, InputDevice* device,
+            std::string* error) override {
+    calls.push_back("open");
+    given = device;
+    EXPECT_EQ(world.step_count(), 0);  // nothing steps it yet
+    if (!open_error.empty()) *error = open_error;
+    return open_error.empty();
+  }
+  InputDevice& device() override { return given ? *given : *own; }
+  void watch(LiveAttempt& live) override {
+    calls.push_back("watch");
+    if (close_window) live.request_stop(AttemptEnd::kStopped);
+    LiveView view;
+    while (!live.finished()) {
+      live.latest(view);
+      std::this_thread::sleep_for(2ms);
+    }
+  }
+  void show_score(const AttemptRun& run, const std::string& line) override {
+    calls.push_back("score");
+    status = line;
+    Database db = test::open_or_fail(db_path, OpenOptions{.create = false});
+    auto attempts = list_attempts(db);
+    if (attempts && !attempts->empty()) status_at_score = attempts->back().status;
+  }
+};
+
+TEST(AttemptSession, ALiveAttemptIsWatchedThenStoredBeforeItsScoreShows) {
+  test::TempDir dir;
+  SessionOptions o = replay_options(dir, write_short_trajectory(dir));
+  o.checkpoint_every_s = 0.1;
+  FakeView view;
+  view.db_path = o.db;
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, &view, notes);
+  ASSERT_EQ(r.end, SessionEnd::kCompleted) << r.error;
+  EXPECT_EQ(view.calls, (std::vector<std::string>{"open", "watch", "score"}));
+  ASSERT_NE(view.given, nullptr);  // the replay, opened by the session
+  EXPECT_EQ(view.status, "Stored as attempt " + std::to_string(r.attempt_id) + " (completed)");
+  EXPECT_EQ(view.status_at_score, AttemptStatus::kCompleted);
+  EXPECT_NEAR(r.world->time_s(), 0.3, 0.01);
+  ASSERT_TRUE(r.haptics);
+  EXPECT_GT(r.haptics->loop.ticks, 0);
+  EXPECT_FALSE(r.haptics->decoupled);  // a replay steps on one thread
+  ASSERT_TRUE(r.checkpoints);
+  EXPECT_EQ(r.checkpoints->every_s, 0.1);
+  EXPECT_GE(r.checkpoints->stats.saved + r.checkpoints->stats.deferred, 1);
+}
+
+TEST(AttemptSession, TheViewDrivesTheMouseInput) {
+  test::TempDir dir;
+  SessionOptions o = replay_options(dir, "");
+  o.input = "mouse";
+  FakeView view;
+  view.db_path = o.db;
+  std::string error;
+  view.own = open_input("replay:" + write_short_trajectory(dir), &error);
+  ASSERT_TRUE(view.own) << error;
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, &view, notes);
+  ASSERT_EQ(r.end, SessionEnd::kCompleted) << r.error;
+  EXPECT_EQ(view.given, nullptr);  // the session opened no device
+  EXPECT_EQ(stored(o.db, r.attempt_id).input_device, "mouse");
+}
+
+TEST(AttemptSession, ClosingTheWindowStoresTheAttemptAsAborted) {
+  test::TempDir dir;
+  SessionOptions o = replay_options(dir, write_short_trajectory(dir));
+  FakeView view;
+  view.db_path = o.db;
+  view.close_window = true;
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, &view, notes);
+  EXPECT_EQ(r.end, SessionEnd::kAbandoned);
+  EXPECT_EQ(r.stored_as, "aborted");
+  EXPECT_EQ(view.calls, (std::vector<std::string>{"open", "watch"}));  // no score screen
+  const AttemptRecord a = stored(o.db, r.attempt_id);
+  EXPECT_EQ(a.status, AttemptStatus::kAborted);
+  EXPECT_EQ(a.abort_reason, "stopped before the end by the trainee");
+}
+
+TEST(AttemptSession, WithoutADisplayTheAttemptRunsHeadless) {
+  test::TempDir dir;
+  SessionOptions o = replay_options(dir, write_short_trajectory(dir));
+  FakeView view;
+  view.available = false;
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, &view, notes);
+  ASSERT_EQ(r.end, SessionEnd::kCompleted) << r.error;
+  EXPECT_EQ(notes.str(), "note: no display, running headless\n");
+  EXPECT_TRUE(view.calls.empty());
+  EXPECT_FALSE(r.haptics);
+  // The mouse, though, cannot do without one.
+  o.input = "mouse";
+  const SessionResult m = run_attempt_session(o, &view, notes);
+  EXPECT_EQ(m.end, SessionEnd::kBadInput);
+  EXPECT_NE(m.error.find("there is no display"), std::string::npos) << m.error;
+}
+
+TEST(AttemptSession, AWindowThatFailsAbortsTheAttemptAndSaysWhy) {
+  test::TempDir dir;
+  SessionOptions o = replay_options(dir, write_short_trajectory(dir));
+  FakeView view;
+  view.open_error = "no GL 3.3";
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, &view, notes);
+  EXPECT_EQ(r.end, SessionEnd::kBadInput);
+  EXPECT_EQ(r.error, "cannot open the trainee view: no GL 3.3");
+  const AttemptRecord a = stored(o.db, r.attempt_id);
+  EXPECT_EQ(a.status, AttemptStatus::kAborted);
+  EXPECT_EQ(a.abort_reason, "window failed: no GL 3.3");
+}
+
+}  // namespace
+}  // namespace acdr
