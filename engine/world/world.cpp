@@ -5,25 +5,12 @@
 #include <cmath>
 
 #include "engine/core/state_hash.hpp"
+#include "engine/rigid/instrument_dynamics.hpp"
 
 namespace acdr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-Eigen::Matrix3d skew(const Vec3& r) {
-  Eigen::Matrix3d m;
-  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return m;
-}
-
-/// Rotation vector taking orientation `from` to `to` (shortest way), rad.
-Vec3 rotation_between(const Quat& from, const Quat& to) {
-  Quat d = to * from.conjugate();
-  if (d.w() < 0) d.coeffs() *= -1.0;
-  const Eigen::AngleAxisd aa(d);
-  return aa.axis() * aa.angle();
-}
 
 struct StageClock {
   StageTimes& times;
@@ -69,7 +56,11 @@ World::World(const WorldConfig& config)
       summary_.zones.push_back({z.name, z.warning_distance_m, z.force_limit_N, z.never_event});
     frame_.zone_count = static_cast<std::int32_t>(anatomy_->zones().size());
   }
-  if (config_.instrument.enabled) instrument_.emplace(config_.instrument);
+  if (config_.instrument.enabled) {
+    instrument_.emplace(config_.instrument);
+    coupling_ = coupling_gains(config_.coupling, config_.instrument.mass_kg,
+                               instrument_->principal_inertia().x());
+  }
   rigid_ = std::make_unique<RigidWorld>(config_.gravity_m_s2, config_.instrument_start,
                                         instrument_ ? &*instrument_ : nullptr, static_colliders_);
   if (anatomy_) {
@@ -219,49 +210,22 @@ const Frame& World::step(const DeviceSample& sample) {
     clock.lap(StepStage::kNucleus);
 
     // instrument: implicit update of the 6-DOF body under coupling, nucleus reaction and
-    // gravity. Damping terms (coupling damper, nucleus drag) are taken at the new velocity, so
-    // the update is stable for any drag (backward Euler in the velocities; Baraff & Witkin 1998).
-    const auto& cc = config_.coupling;
+    // gravity (engine/rigid/instrument_dynamics.hpp).
     const double m = config_.instrument.mass_kg;
-    const Eigen::Matrix3d inertia = rigid_->instrument_world_inertia();
-    const double i_perp = instrument_->principal_inertia().x();
-    const double ks = cc.stiffness_N_m;
-    const double kd = cc.damping_Ns_m >= 0 ? cc.damping_Ns_m : 2.0 * std::sqrt(m * ks);
-    const double kr = cc.rot_stiffness_Nm_rad;
-    const double krd =
-        cc.rot_damping_Nms_rad >= 0 ? cc.rot_damping_Nms_rad : 2.0 * std::sqrt(i_perp * kr);
-
-    const Vec3 r_g = grip.position - com;
-    const Vec3 r_w = reaction.reference_point - com;
-    Eigen::Matrix<double, 3, 6> J_g, J_w;
-    J_g << Eigen::Matrix3d::Identity(), -skew(r_g);
-    J_w << Eigen::Matrix3d::Identity(), -skew(r_w);
-    Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
-    M.topLeftCorner<3, 3>() = m * Eigen::Matrix3d::Identity();
-    M.bottomRightCorner<3, 3>() = inertia;
-    Eigen::Matrix<double, 6, 6> P_w = Eigen::Matrix<double, 6, 6>::Zero();
-    P_w.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
-
-    Eigen::Matrix<double, 6, 1> u0;
-    u0 << v0, w0;
-    const Vec3 f_spring = ks * (in.target.position - grip.position);
-    const Vec3 t_spring = kr * rotation_between(grip.orientation, in.target.orientation);
-    Eigen::Matrix<double, 6, 1> f = Eigen::Matrix<double, 6, 1>::Zero();
-    f.head<3>() += f_spring + reaction.force_N + m * config_.gravity_m_s2;
-    f.tail<3>() += r_g.cross(f_spring) + t_spring + reaction.torque_Nm +
-                   (reaction.reference_point - com).cross(reaction.force_N);
-    f += J_g.transpose() * (kd * in.target_velocity);
-    f.tail<3>() += krd * omega_target;
-    const Eigen::Matrix<double, 6, 6> D = kd * J_g.transpose() * J_g + krd * P_w +
-                                          reaction.drag_Ns_m * J_w.transpose() * J_w +
-                                          reaction.rot_drag_Nms * P_w;
-    // The nucleus force was evaluated at u0: its drag part is moved to the new velocity.
-    const Eigen::Matrix<double, 6, 1> rhs =
-        M * u0 + dt * (f + (reaction.drag_Ns_m * J_w.transpose() * J_w +
-                            reaction.rot_drag_Nms * P_w) * u0);
-    const Eigen::Matrix<double, 6, 1> u1 = (M + dt * D).ldlt().solve(rhs);
-    const Eigen::Matrix<double, 6, 1> gen = M * (u1 - u0) / dt;
-    contact = rigid_->step(dt, gen.head<3>(), gen.tail<3>());
+    InstrumentBodyState body;
+    body.mass_kg = m;
+    body.inertia_kg_m2 = rigid_->instrument_world_inertia();
+    body.com_m = com;
+    body.com_velocity_m_s = v0;
+    body.angular_velocity_rad_s = w0;
+    body.grip = grip;
+    CouplingTarget target;
+    target.pose = in.target;
+    target.velocity_m_s = in.target_velocity;
+    target.angular_velocity_rad_s = omega_target;
+    const InstrumentUpdate update =
+        implicit_instrument_update(body, coupling_, target, reaction, config_.gravity_m_s2, dt);
+    contact = rigid_->step(dt, update.force_N, update.torque_Nm);
 
     nucleus_force = reaction.force_N;
     nucleus_torque_grip =
@@ -270,7 +234,7 @@ const Frame& World::step(const DeviceSample& sample) {
     // Coupling force on the instrument at the new state (what the user's hand supplies).
     const Pose g1 = rigid_->instrument_grip();
     const Vec3 vg1 = rigid_->instrument_grip_velocity();
-    coupling_force = ks * (in.target.position - g1.position) + kd * (in.target_velocity - vg1);
+    coupling_force = coupling_force_N(coupling_, target, g1, vg1);
     frame_.instrument = g1;
     frame_.tip_m = g1.apply(instrument_->working_point());
     clock.lap(StepStage::kInstrument);
@@ -279,10 +243,10 @@ const Frame& World::step(const DeviceSample& sample) {
     // contact, the instrument's weight) about the grip, less its torsion component.
     const Vec3 axis = g1.orientation * Vec3::UnitZ();
     const Vec3 com1 = rigid_->instrument_com_world();
-    Vec3 moment = nucleus_torque_grip + contact.torque_about_grip_Nm +
-                  (com1 - g1.position).cross(m * config_.gravity_m_s2);
-    moment -= moment.dot(axis) * axis;
-    frame_.bending_moment_Nm = moment.norm();
+    frame_.bending_moment_Nm = shaft_bending_moment_Nm(
+        nucleus_torque_grip + contact.torque_about_grip_Nm +
+            (com1 - g1.position).cross(m * config_.gravity_m_s2),
+        axis);
     const bool warn = frame_.bending_moment_Nm > summary_.warning_moment_Nm;
     const bool yield = frame_.bending_moment_Nm > summary_.yield_moment_Nm;
     if (warn && !warning_active_)

@@ -16,6 +16,7 @@
 #include "engine/core/frame.hpp"
 #include "engine/devices/input_device.hpp"
 #include "engine/rigid/instrument.hpp"
+#include "engine/rigid/instrument_dynamics.hpp"
 #include "engine/nucleus/nucleus.hpp"
 #include "engine/rigid/rigid_world.hpp"
 #include "engine/world/world_config.hpp"
@@ -98,6 +99,7 @@ class World {
   std::unique_ptr<RigidWorld> rigid_;
   std::unique_ptr<Nucleus> nucleus_;
   DeviceGuard guard_;
+  CouplingGains coupling_;  // the coupling's gains, critical damping resolved
 
   std::vector<Collider> moving_;        // instrument colliders, world frame (capacity fixed)
   std::vector<BodyReaction> reactions_; // one per moving body
