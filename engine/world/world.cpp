@@ -170,7 +170,7 @@ void World::step_nucleus() {
   if (!nucleus_) return;
   NumericalReport report;
   nucleus_->step(config_.solver.dt_s, moving, reactions, report);
-  if (instrument_) frame_.solver_iterations = report.iterations;
+  frame_.solver_iterations = report.iterations;
   if (!report.ok && !failed_) {
     emit(EventKind::kNumerical, report.residual, report.stage);
     failed_ = true;
