@@ -55,8 +55,9 @@ btCollisionShape* make_shape(const Collider& c) {
 }
 
 /// Static triangle-mesh shape of one vertebra, in millimetres (the peer's world unit, where
-/// Bullet's 0.002-unit BVH box floor is 2 um; engine/rigid/rigid_world.cpp does the same for the
-/// instrument). `vertices` and `indices` must outlive the shape.
+/// Bullet's 0.002-unit BVH box floor is 2 um; the rigid world builds its bone meshes in
+/// millimetres for the same reason, engine/rigid/rigid_world.cpp). `vertices` and `indices` must
+/// outlive the shape.
 struct BoneMesh {
   std::vector<btScalar> vertices;
   std::vector<int> indices;

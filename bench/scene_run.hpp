@@ -1,8 +1,8 @@
 // One benchmark run: a World built from a scene description with chosen solver settings,
 // driven by a trajectory over a time window, with the figures the benchmark compares
 // (instrument force over time, nucleus removed, wall and CPU time per stage). Shared by the
-// `acdr bench` command, the probe program and the micro-benchmarks (docs/architecture.md: scene builders
-// are shared, never copied).
+// `acdr bench` command and the step probe (docs/architecture.md: scene builders are shared,
+// never copied).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Internal to engine/verification: the built-in cases (one file each) and the scene helpers
+// Internal to verification/: the built-in cases (one file each) and the scene helpers
 // they share.
 #pragma once
 
