@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 
+#include "bench/run_loop.hpp"
 #include "bench/trace_error.hpp"
 #include "engine/rigid/instrument.hpp"
 #include "engine/nucleus/nucleus.hpp"
@@ -68,7 +69,6 @@ std::vector<Collider> undeclared_parts() {
 RunTrace run_nucleus_only(const WorldConfig& config, const Pose& start,
                           const std::vector<Pose>& path, const RunWindow& window,
                           const std::vector<Collider>& extra) {
-  using Clock = std::chrono::steady_clock;
   RunTrace out;
   std::vector<Collider> statics = build_static_colliders(config.ground, config.box);
   statics.insert(statics.end(), extra.begin(), extra.end());
@@ -80,44 +80,21 @@ RunTrace run_nucleus_only(const WorldConfig& config, const Pose& start,
   const double dt = config.solver.dt_s;
   const double duration = window.duration_s > 0.0 ? window.duration_s
                                                   : window.sample_s * double(path.size());
-  const auto steps = static_cast<std::int64_t>(std::llround(duration / dt));
-  const auto windows = static_cast<std::size_t>(std::floor(duration / window.sample_s + 1e-9));
   out.particles = nucleus.particle_count();
   out.bonds = nucleus.bond_count();
-  Vec3 f_sum = Vec3::Zero();
-  int f_count = 0;
-  const auto t0 = Clock::now();
-  const double c0 = thread_cpu_s();
-  for (std::int64_t k = 0; k < steps; ++k) {
-    const double t = double(k) * dt;
-    const Pose now = pose_on_path(start, path, window.sample_s, t);
-    const Pose next = pose_on_path(start, path, window.sample_s, t + dt);
-    const Vec3 v = (next.position - now.position) / dt;
-    Quat dq = next.orientation * now.orientation.conjugate();
-    if (dq.w() < 0) dq.coeffs() *= -1.0;
-    const Eigen::AngleAxisd aa(dq);
-    geometry.world_colliders(now, v, aa.axis() * (aa.angle() / dt), moving);
+  const std::int64_t steps = run_timed_loop(duration, dt, window, out, [&](std::int64_t k) {
+    const PathMotion m = motion_on_path(start, path, window.sample_s, double(k) * dt, dt);
+    geometry.world_colliders(m.pose, m.velocity_m_s, m.angular_velocity_rad_s, moving);
     reactions[0] = BodyReaction{};
-    reactions[0].reference_point = now.position;
+    reactions[0].reference_point = m.pose.position;
     NumericalReport report;
     nucleus.step(dt, moving, reactions, report);
     out.mean_iterations += report.iterations;
     out.mean_active += static_cast<double>(nucleus.active_count());
-    if (!report.ok) out.failed = true;
-    f_sum += reactions[0].force_N;
-    ++f_count;
-    const double t_rel = double(k + 1) * dt;
-    const double boundary = double(out.t_s.size() + 1) * window.sample_s;
-    if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt) {
-      out.t_s.push_back(boundary);
-      out.force_N.push_back(f_sum / f_count);
-      f_sum = Vec3::Zero();
-      f_count = 0;
-    }
-  }
-  out.cpu_s = thread_cpu_s() - c0;
-  out.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  out.steps = out.timed_steps = steps;
+    if (!report.ok) out.failed = true;  // noted; the run goes on
+    return LoopStep{reactions[0].force_N, std::nullopt, false};
+  });
+  out.steps = steps;
   out.sim_s = double(steps) * dt;
   if (steps > 0) {
     out.mean_iterations /= double(steps);

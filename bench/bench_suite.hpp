@@ -1,7 +1,8 @@
 // `acdr bench` as a library: the work-precision grid (our solver and the Bullet soft-body
 // peer against a converged reference), cost against particle count with a fitted exponent,
-// and the skips switched on and off with the error each costs. Plain data out; the command
-// (cli/bench_command) formats tables, CSV, JSON and the plot.
+// and the skips switched on and off with the error each costs. Plain data out; the command line
+// (cli/bench_command) formats tables, CSV, JSON (bench_report_format.hpp) and the plot
+// (work_precision_plot.hpp).
 #pragma once
 
 #include <functional>
@@ -55,11 +56,11 @@ struct BenchGrid {
   double skip_window_s = 2.5;
   /// Each of our solver's work-precision runs is timed this many times and the fastest kept:
   /// the work is identical (deterministic: the traces are compared), so the spread is the
-  /// host's. On this shared machine runs minutes apart differ by up to ~1.5x.
+  /// host's. On a shared machine runs minutes apart differ by up to ~1.5x.
   int timing_runs = 3;
 };
 
-/// The full grid, or the quick one (within two minutes on this 2-core machine).
+/// The full grid, or the quick one (within two minutes on a 2-core machine).
 BenchGrid default_grid(bool quick);
 
 struct BenchConfig {

@@ -7,10 +7,10 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 
+#include "bench/run_loop.hpp"
 #include "engine/anatomy/anatomy.hpp"
 #include "engine/rigid/instrument.hpp"
 #include "engine/nucleus/nucleus.hpp"
@@ -55,8 +55,9 @@ btCollisionShape* make_shape(const Collider& c) {
 }
 
 /// Static triangle-mesh shape of one vertebra, in millimetres (the peer's world unit, where
-/// Bullet's 0.002-unit BVH box floor is 2 um; engine/rigid/rigid_world.cpp does the same for the
-/// instrument). `vertices` and `indices` must outlive the shape.
+/// Bullet's 0.002-unit BVH box floor is 2 um; the rigid world builds its bone meshes in
+/// millimetres for the same reason, engine/rigid/rigid_world.cpp). `vertices` and `indices` must
+/// outlive the shape.
 struct BoneMesh {
   std::vector<btScalar> vertices;
   std::vector<int> indices;
@@ -87,7 +88,6 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
                          const std::vector<Pose>& path, const RunWindow& window,
                          const PeerSettings& settings,
                          const std::function<void(double)>& progress) {
-  using Clock = std::chrono::steady_clock;
   RunTrace out;
   const double dt = settings.dt_s;
 
@@ -196,71 +196,49 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
   soft->setActivationState(DISABLE_DEACTIVATION);
   world->addSoftBody(soft.get(), kGroupSoft, kGroupStatic | kGroupInstrument);
 
-  // Step.
+  // Step: the instrument is placed on the path with the path's velocity, the world steps, and
+  // the force on the instrument is its momentum change from the contact impulses.
   const double duration =
       window.duration_s > 0.0 ? window.duration_s
                               : window.sample_s * static_cast<double>(path.size());
-  const auto steps = static_cast<std::int64_t>(std::llround(duration / dt));
-  const auto windows = static_cast<std::size_t>(std::floor(duration / window.sample_s + 1e-9));
-  out.t_s.reserve(windows);
-  out.force_N.reserve(windows);
-  Vec3 f_sum = Vec3::Zero();
-  int f_count = 0;
-  const auto t_start = Clock::now();
-  const double cpu_start = thread_cpu_s();
-  for (std::int64_t k = 0; k < steps; ++k) {
-    const double t = double(k) * dt;
-    Vec3 force = Vec3::Zero();
-    Pose now = pose_on_path(start, path, window.sample_s, t);
-    if (instrument) {
-      const Pose next = pose_on_path(start, path, window.sample_s, t + dt);
-      const Vec3 v = (next.position - now.position) / dt;
-      Quat dq = next.orientation * now.orientation.conjugate();
-      if (dq.w() < 0) dq.coeffs() *= -1.0;
-      const Eigen::AngleAxisd aa(dq);
-      const Vec3 w = aa.axis() * (aa.angle() / dt);
-      const btTransform tr = to_bt(now);
-      instrument->setWorldTransform(tr);
-      instrument->getMotionState()->setWorldTransform(tr);
-      instrument->setInterpolationWorldTransform(tr);
-      const btVector3 v_bt = to_bt(v);
-      const btVector3 w_bt(w.x(), w.y(), w.z());
-      instrument->setLinearVelocity(v_bt);
-      instrument->setAngularVelocity(w_bt);
-      instrument->setInterpolationLinearVelocity(v_bt);
-      instrument->setInterpolationAngularVelocity(w_bt);
-      world->stepSimulation(dt, 0, dt);
-      // Momentum change from the contact impulses (kg mm/s per step -> N).
-      const btVector3 dv = instrument->getLinearVelocity() - v_bt;
-      force = Vec3(dv.x(), dv.y(), dv.z()) * (kInstrumentMass / dt / kMm);
-    } else {
-      world->stepSimulation(dt, 0, dt);
-    }
-    info.m_sparsesdf.GarbageCollect();
-    f_sum += force;
-    ++f_count;
-    const double t_rel = double(k + 1) * dt;
-    const double boundary = double(out.t_s.size() + 1) * window.sample_s;
-    if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt) {
-      out.t_s.push_back(boundary);
-      out.force_N.push_back(f_sum / f_count);
-      out.instrument.push_back(pose_on_path(start, path, window.sample_s, t_rel));
-      f_sum = Vec3::Zero();
-      f_count = 0;
-    }
-    bool finite = true;
-    for (int i = 0; i < soft->m_nodes.size() && finite; i += 97)
-      finite = std::isfinite(soft->m_nodes[i].m_x.x());
-    if (!finite) {
-      out.failed = true;
-      break;
-    }
-    if (progress && (k % 250 == 0)) progress(double(k) / double(steps));
-  }
-  out.cpu_s = thread_cpu_s() - cpu_start;
-  out.wall_s = std::chrono::duration<double>(Clock::now() - t_start).count();
-  out.steps = steps;
-  out.sim_s = double(steps) * dt;
+  run_timed_loop(
+      duration, dt, window, out,
+      [&](std::int64_t k) {
+        LoopStep step;
+        if (instrument) {
+          const PathMotion m = motion_on_path(start, path, window.sample_s, double(k) * dt, dt);
+          const btTransform tr = to_bt(m.pose);
+          instrument->setWorldTransform(tr);
+          instrument->getMotionState()->setWorldTransform(tr);
+          instrument->setInterpolationWorldTransform(tr);
+          const btVector3 v_bt = to_bt(m.velocity_m_s);
+          const Vec3& w = m.angular_velocity_rad_s;
+          const btVector3 w_bt(w.x(), w.y(), w.z());
+          instrument->setLinearVelocity(v_bt);
+          instrument->setAngularVelocity(w_bt);
+          instrument->setInterpolationLinearVelocity(v_bt);
+          instrument->setInterpolationAngularVelocity(w_bt);
+          world->stepSimulation(dt, 0, dt);
+          // Momentum change from the contact impulses (kg mm/s per step -> N).
+          const btVector3 dv = instrument->getLinearVelocity() - v_bt;
+          step.force_N = Vec3(dv.x(), dv.y(), dv.z()) * (kInstrumentMass / dt / kMm);
+        } else {
+          world->stepSimulation(dt, 0, dt);
+        }
+        info.m_sparsesdf.GarbageCollect();
+        step.instrument = pose_on_path(start, path, window.sample_s, double(k + 1) * dt);
+        // A blown-up soft body stops the run (a sample of its nodes is checked).
+        bool finite = true;
+        for (int i = 0; i < soft->m_nodes.size() && finite; i += 97)
+          finite = std::isfinite(soft->m_nodes[i].m_x.x());
+        step.stop = !finite;
+        if (!finite) out.failed = true;
+        return step;
+      },
+      progress);
+  // A failed run still counts the whole window (its point is marked failed).
+  out.steps = run_step_count(duration, dt);
+  out.sim_s = double(out.steps) * dt;
 
   // Removed: nodes outside the removal region at the end.
   std::int32_t removed = 0, target = 0;
@@ -281,7 +259,6 @@ RunTrace run_bullet_peer(const WorldConfig& config, const Pose& start,
 
   world->removeSoftBody(soft.get());
   for (auto& b : bodies) world->removeRigidBody(b.get());
-  if (progress) progress(1.0);
   return out;
 }
 

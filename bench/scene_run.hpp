@@ -1,8 +1,8 @@
 // One benchmark run: a World built from a scene description with chosen solver settings,
 // driven by a trajectory over a time window, with the figures the benchmark compares
 // (instrument force over time, nucleus removed, wall and CPU time per stage). Shared by the
-// `acdr bench` command, the probe program and the micro-benchmarks (docs/architecture.md: scene builders
-// are shared, never copied).
+// `acdr bench` command and the step probe (docs/architecture.md: scene builders are shared,
+// never copied).
 #pragma once
 
 #include <cstdint>
@@ -71,11 +71,23 @@ RunTrace run_scene(const WorldConfig& config, const Trajectory& trajectory,
                    const RunWindow& window, const std::function<void(double)>& progress = {},
                    const RunObserver& observer = {});
 
+/// The instrument's motion along a recorded path over one step.
+struct PathMotion {
+  Pose pose;                                   ///< on the path at the step's start
+  Vec3 velocity_m_s = Vec3::Zero();            ///< reaching the path's position dt later
+  Vec3 angular_velocity_rad_s = Vec3::Zero();  ///< reaching its orientation dt later
+};
+
 /// CPU time of the calling thread, s.
 double thread_cpu_s();
 
 /// Pose along a recorded path at time t after its start: path[k] is the pose at
 /// (k + 1) * sample_s, `start` the pose at 0; linear in position, slerp in orientation.
 Pose pose_on_path(const Pose& start, const std::vector<Pose>& path, double sample_s, double t);
+
+/// The pose on the path (see pose_on_path) at t and the velocities that take it to the path's
+/// pose at t + dt.
+PathMotion motion_on_path(const Pose& start, const std::vector<Pose>& path, double sample_s,
+                          double t, double dt);
 
 }  // namespace acdr

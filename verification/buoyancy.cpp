@@ -10,6 +10,7 @@
 // viscosity for `hold_s`, over whose second half the force is averaged.
 #include <cmath>
 
+#include "engine/rigid/static_scene.hpp"
 #include "verification/cases.hpp"
 
 namespace acdr::verification {
@@ -54,7 +55,7 @@ std::vector<VerificationRow> run_buoyancy(const VerificationCaseSpec& spec) {
       }
   NucleusOptions opt;
   opt.bonds_enabled = false;
-  const auto box = open_box_colliders(Vec3::Zero(), Vec3(W, W, D + 4.0 * h), 2.0 * h);
+  const auto box = open_box_walls(Vec3::Zero(), Vec3(W, W, D + 4.0 * h), 2.0 * h);
   Collider prism;
   prism.kind = ColliderKind::kBox;
   prism.half_extents_m = 0.5 * Vec3(a, a, a);

@@ -1,4 +1,4 @@
-// Internal to engine/verification: the built-in cases (one file each) and the scene helpers
+// Internal to verification/: the built-in cases (one file each) and the scene helpers
 // they share.
 #pragma once
 
@@ -40,10 +40,6 @@ Vec3 gravity_from(const VerificationCaseSpec& spec);
 
 /// Cubic lattice of nx*ny*nz points with spacing h, first point at `first`.
 void add_lattice(std::vector<Vec3>& out, const Vec3& first, int nx, int ny, int nz, double h);
-
-/// The seed's open box: floor and four side walls around an inner cavity (static colliders).
-std::vector<Collider> open_box_colliders(const Vec3& inner_min, const Vec3& inner_max,
-                                         double wall_m);
 
 /// Steps a nucleus, accumulating the first numerical failure.
 struct StepLog {

@@ -144,23 +144,6 @@ void add_lattice(std::vector<Vec3>& out, const Vec3& first, int nx, int ny, int 
       for (int i = 0; i < nx; ++i) out.push_back(first + h * Vec3(i, j, k));
 }
 
-std::vector<Collider> open_box_colliders(const Vec3& lo, const Vec3& hi, double t) {
-  std::vector<Collider> out;
-  auto wall = [&](const Vec3& min, const Vec3& max) {
-    Collider c;
-    c.kind = ColliderKind::kBox;
-    c.pose.position = 0.5 * (min + max);
-    c.half_extents_m = 0.5 * (max - min);
-    out.push_back(c);
-  };
-  wall(Vec3(lo.x() - t, lo.y() - t, lo.z() - t), Vec3(hi.x() + t, hi.y() + t, lo.z()));
-  wall(Vec3(lo.x() - t, lo.y() - t, lo.z()), Vec3(lo.x(), hi.y() + t, hi.z()));
-  wall(Vec3(hi.x(), lo.y() - t, lo.z()), Vec3(hi.x() + t, hi.y() + t, hi.z()));
-  wall(Vec3(lo.x(), lo.y() - t, lo.z()), Vec3(hi.x(), lo.y(), hi.z()));
-  wall(Vec3(lo.x(), hi.y(), lo.z()), Vec3(hi.x(), hi.y() + t, hi.z()));
-  return out;
-}
-
 void step_logged(Nucleus& nucleus, double dt, std::span<const Collider> moving,
                  std::span<BodyReaction> reactions, StepLog& log) {
   NumericalReport report;

@@ -60,9 +60,9 @@ RigidWorld::RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
   // Penetration is pushed out by split impulses (a position-level correction that adds no
   // momentum) from 10 um on. Bullet's default threshold, -0.04, is in world units and assumes
   // metre-sized bodies: here it would be 40 mm, so every overlap of the millimetre instrument
-  // was corrected with velocity-level (Baumgarte) impulses, which count as contact force: a
-  // shaft pinned between the endplate rims then showed 8-19 N m "bending moments" that no
-  // force in the scene applied (the coupling can apply ~1 N m).
+  // would be corrected with velocity-level (Baumgarte) impulses, which count as contact force:
+  // a shaft pinned between the endplate rims would show 8-19 N m "bending moments" that no
+  // force in the scene applies (the coupling can apply ~1 N m).
   w.getSolverInfo().m_splitImpulse = 1;
   w.getSolverInfo().m_splitImpulsePenetrationThreshold = -1.0e-5;
 
@@ -103,8 +103,8 @@ RigidWorld::RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
           }
         }
         // The hull caches its box with the margin it has when the box is computed; with the
-        // default 0.04 (40 mm here) every query against bone returned thousands of triangles
-        // (found with the anatomy: 300 ms per step). Set the margin first.
+        // default 0.04 (40 mm here) every query against bone returns thousands of triangles
+        // (300 ms per step on the anatomy scene). So the margin is set first.
         hull->setMargin(kMargin);
         hull->recalcLocalAabb();
         shape = std::move(hull);
@@ -128,7 +128,8 @@ RigidWorld::RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
     impl_->instrument = std::make_unique<btRigidBody>(info);
     impl_->instrument->setActivationState(DISABLE_DEACTIVATION);
     impl_->instrument->setDamping(0.0, 0.0);
-    // Gravity is applied by the World together with the coupling (implicit update).
+    // Gravity is applied together with the coupling, in the instrument's implicit update
+    // (instrument_dynamics.hpp).
     impl_->instrument->setFlags(impl_->instrument->getFlags() | BT_DISABLE_WORLD_GRAVITY);
     impl_->instrument->setGravity(btVector3(0, 0, 0));
     // Continuous collision: the blade is 2 mm thick and may move 1 mm per step.

@@ -1,6 +1,6 @@
-// The rigid world in Bullet: ground plane, the open box's five static walls, and the
-// instrument as a dynamic body. Bullet resolves instrument-wall (later instrument-bone)
-// contact; the contact force on the instrument is measured from the solver's impulses.
+// The rigid world in Bullet: ground plane, the open box's five static walls, bone meshes, and
+// the instrument as a dynamic body. Bullet resolves the instrument's contact with walls and bone;
+// the contact force on the instrument is measured from the solver's impulses.
 #pragma once
 
 #include <memory>

@@ -25,4 +25,10 @@ struct OpenBoxConfig {
 /// The static colliders of the ground and the box's five walls (either may be disabled).
 std::vector<Collider> build_static_colliders(const GroundConfig& ground, const OpenBoxConfig& box);
 
+/// An open box's five walls as static box colliders around the inner cavity [inner_min_m,
+/// inner_max_m], each `wall_thickness_m` thick: the floor (under the cavity and the side walls),
+/// then the sides at -x and +x (spanning y), then at -y and +y (between them); open at +z.
+std::vector<Collider> open_box_walls(const Vec3& inner_min_m, const Vec3& inner_max_m,
+                                     double wall_thickness_m);
+
 }  // namespace acdr

@@ -3,27 +3,15 @@
 
 #include <chrono>
 #include <cmath>
+#include <span>
 
 #include "engine/core/state_hash.hpp"
+#include "engine/rigid/instrument_dynamics.hpp"
 
 namespace acdr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-Eigen::Matrix3d skew(const Vec3& r) {
-  Eigen::Matrix3d m;
-  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return m;
-}
-
-/// Rotation vector taking orientation `from` to `to` (shortest way), rad.
-Vec3 rotation_between(const Quat& from, const Quat& to) {
-  Quat d = to * from.conjugate();
-  if (d.w() < 0) d.coeffs() *= -1.0;
-  const Eigen::AngleAxisd aa(d);
-  return aa.axis() * aa.angle();
-}
 
 struct StageClock {
   StageTimes& times;
@@ -69,7 +57,11 @@ World::World(const WorldConfig& config)
       summary_.zones.push_back({z.name, z.warning_distance_m, z.force_limit_N, z.never_event});
     frame_.zone_count = static_cast<std::int32_t>(anatomy_->zones().size());
   }
-  if (config_.instrument.enabled) instrument_.emplace(config_.instrument);
+  if (config_.instrument.enabled) {
+    instrument_.emplace(config_.instrument);
+    coupling_ = coupling_gains(config_.coupling, config_.instrument.mass_kg,
+                               instrument_->principal_inertia().x());
+  }
   rigid_ = std::make_unique<RigidWorld>(config_.gravity_m_s2, config_.instrument_start,
                                         instrument_ ? &*instrument_ : nullptr, static_colliders_);
   if (anatomy_) {
@@ -110,6 +102,172 @@ World::World(const WorldConfig& config)
 }
 
 World::~World() = default;
+
+// What one step's stages hand on to the next.
+struct World::StepData {
+  GuardedInput input;                    // the device sample after the guard
+  CouplingTarget target;                 // where the coupling pulls the grip
+  Vec3 nucleus_force_N = Vec3::Zero();   // the particles' force on the instrument
+  RigidContact contact;                  // the instrument's contact with static solids
+  Vec3 coupling_force_N = Vec3::Zero();  // the coupling's force on the instrument, new state
+  GuardedForce feedback;                 // the force the device renders
+};
+
+const Frame& World::step(const DeviceSample& sample) {
+  StageClock clock{times_};
+  StepData s;
+  read_input(sample, s);
+  clock.lap(StepStage::kInput);
+  step_nucleus();
+  clock.lap(StepStage::kNucleus);
+  step_instrument(s);
+  clock.lap(StepStage::kInstrument);
+  send_feedback(s);
+  clock.lap(StepStage::kFeedback);
+  record(s);
+  clock.lap(StepStage::kRecord);
+  ++times_.steps;
+  return frame_;
+}
+
+// input: the guard filters the device pose into the coupling's target. A stale sample (the
+// device went silent) holds the target and zeroes the force; it is recorded once per silence,
+// apart from rejected (NaN, jump) samples.
+void World::read_input(const DeviceSample& sample, StepData& s) {
+  const GuardedInput in = sample.stale ? guard_.accept_lost() : guard_.accept(sample.pose);
+  if (sample.stale && !input_lost_)
+    emit(EventKind::kInputLost, sample.silence_s, "device silent: force zeroed");
+  input_lost_ = sample.stale;
+  const bool rejected = !in.accepted && !sample.stale;
+  if (rejected && !input_rejecting_)
+    emit(EventKind::kInputRejected, in.jump_m, in.non_finite ? "non-finite pose" : "pose jump");
+  input_rejecting_ = rejected;
+
+  s.input = in;
+  s.target.pose = in.target;
+  s.target.velocity_m_s = in.target_velocity;
+  s.target.angular_velocity_rad_s =
+      rotation_between(last_target_orientation_, in.target.orientation) / config_.solver.dt_s;
+  last_target_orientation_ = in.target.orientation;
+}
+
+// nucleus: the particles step against the instrument at its current pose and velocity, and
+// gather what they do to it (force, torque, drag) about its centre of mass.
+void World::step_nucleus() {
+  std::span<const Collider> moving;
+  std::span<BodyReaction> reactions;
+  if (instrument_) {
+    const Pose grip = rigid_->instrument_grip();
+    const Vec3 com = rigid_->instrument_com_world();
+    const Vec3 omega = rigid_->instrument_angular_velocity();
+    const Vec3 v_grip = rigid_->instrument_com_velocity() + omega.cross(grip.position - com);
+    instrument_->world_colliders(grip, v_grip, omega, moving_);
+    reactions_[0] = BodyReaction{};
+    reactions_[0].reference_point = com;
+    moving = moving_;
+    reactions = reactions_;
+  }
+  if (!nucleus_) return;
+  NumericalReport report;
+  nucleus_->step(config_.solver.dt_s, moving, reactions, report);
+  frame_.solver_iterations = report.iterations;
+  if (!report.ok && !failed_) {
+    emit(EventKind::kNumerical, report.residual, report.stage);
+    failed_ = true;
+  }
+}
+
+// instrument: the implicit update under the coupling, the nucleus's reaction and gravity, which
+// Bullet integrates with the contacts; then what the new state means: the coupling's force,
+// the shaft's load, the danger zones, and whether the state is still finite. Without an
+// instrument the rigid world holds only static solids: nothing in it moves.
+void World::step_instrument(StepData& s) {
+  if (!instrument_) return;
+  const double dt = config_.solver.dt_s;
+  const BodyReaction& reaction = reactions_[0];
+  InstrumentBodyState body;
+  body.mass_kg = config_.instrument.mass_kg;
+  body.inertia_kg_m2 = rigid_->instrument_world_inertia();
+  body.com_m = rigid_->instrument_com_world();
+  body.com_velocity_m_s = rigid_->instrument_com_velocity();
+  body.angular_velocity_rad_s = rigid_->instrument_angular_velocity();
+  body.grip = rigid_->instrument_grip();
+  const InstrumentUpdate update =
+      implicit_instrument_update(body, coupling_, s.target, reaction, config_.gravity_m_s2, dt);
+  s.contact = rigid_->step(dt, update.force_N, update.torque_Nm);
+  s.nucleus_force_N = reaction.force_N;
+
+  const Pose grip = rigid_->instrument_grip();
+  const Vec3 grip_velocity = rigid_->instrument_grip_velocity();
+  s.coupling_force_N = coupling_force_N(coupling_, s.target, grip, grip_velocity);
+  frame_.instrument = grip;
+  frame_.tip_m = grip.apply(instrument_->working_point());
+
+  // The particles' moment about the grip, taken where they pushed (the pose before the step).
+  const Vec3 nucleus_moment =
+      reaction.torque_Nm + (reaction.reference_point - body.grip.position).cross(reaction.force_N);
+  check_shaft_load(grip, nucleus_moment, s.contact);
+
+  // anatomy: danger zones against the instrument at its new pose; the force near a zone is what
+  // the instrument presses on tissue (bone contact and nucleus).
+  if (anatomy_) {
+    instrument_->world_colliders(grip, grip_velocity, rigid_->instrument_angular_velocity(),
+                                 moving_);
+    evaluate_zones_and_emit(s.contact.force_N + s.nucleus_force_N);
+  }
+
+  if (!grip.position.allFinite() || !grip.orientation.coeffs().allFinite() ||
+      !grip_velocity.allFinite()) {
+    if (!failed_) emit(EventKind::kNumerical, 0.0, "instrument");
+    failed_ = true;
+  }
+}
+
+// The shaft's bending moment at the grip: the moment of the distal loads (particles, rigid
+// contact, the instrument's weight) about the grip, less its torsion; events when it rises
+// above the warning and the yield moment.
+void World::check_shaft_load(const Pose& grip, const Vec3& nucleus_moment_Nm,
+                             const RigidContact& contact) {
+  const Vec3 weight_moment = (rigid_->instrument_com_world() - grip.position)
+                                 .cross(config_.instrument.mass_kg * config_.gravity_m_s2);
+  frame_.bending_moment_Nm = shaft_bending_moment_Nm(
+      nucleus_moment_Nm + contact.torque_about_grip_Nm + weight_moment,
+      grip.orientation * Vec3::UnitZ());
+  const bool warn = frame_.bending_moment_Nm > summary_.warning_moment_Nm;
+  const bool yield = frame_.bending_moment_Nm > summary_.yield_moment_Nm;
+  if (warn && !warning_active_)
+    emit(EventKind::kOverloadWarning, frame_.bending_moment_Nm, "shaft moment above warning");
+  if (yield && !yield_active_)
+    emit(EventKind::kOverloadYield, frame_.bending_moment_Nm, "shaft moment above yield");
+  warning_active_ = warn;
+  yield_active_ = yield;
+}
+
+// feedback: the user feels the coupling's reaction, limited for the device.
+void World::send_feedback(StepData& s) {
+  s.feedback = guard_.limit(-s.coupling_force_N, t_ + config_.solver.dt_s);
+  if (s.feedback.clamped && !clamp_active_)
+    emit(EventKind::kForceClamped, s.feedback.requested_N, "force above device maximum");
+  clamp_active_ = s.feedback.clamped;
+}
+
+// record: the step's frame.
+void World::record(const StepData& s) {
+  t_ += config_.solver.dt_s;
+  ++steps_;
+  frame_.t_s = t_;
+  frame_.device = s.input.target;
+  frame_.input_valid = s.input.accepted;
+  frame_.coupling_force_N = s.coupling_force_N;
+  frame_.feedback_force_N = s.feedback.force_N;
+  frame_.nucleus_force_N = s.nucleus_force_N;
+  frame_.contact_force_N = s.contact.force_N;
+  if (nucleus_) {
+    frame_.broken_bonds = static_cast<std::int32_t>(nucleus_->broken_bond_count());
+    frame_.active_particles = static_cast<std::int32_t>(nucleus_->active_count());
+    count_removed();
+  }
+}
 
 void World::emit(EventKind kind, double value, const char* detail) {
   if (events_.size() < events_.capacity()) events_.push_back(Event{t_, kind, value, detail});
@@ -168,178 +326,6 @@ void World::count_removed() {
                         config_.nucleus.materials[mats[i]].counts_as_target;
     (target ? frame_.removed_target : frame_.removed_protected)++;
   }
-}
-
-const Frame& World::step(const DeviceSample& sample) {
-  const double dt = config_.solver.dt_s;
-  StageClock clock{times_};
-
-  // input: filter the device pose into a coupling target.
-  // A stale sample (the device went silent) holds the target and zeroes the force; it is
-  // recorded once per silence, apart from rejected (NaN, jump) samples.
-  const GuardedInput in = sample.stale ? guard_.accept_lost() : guard_.accept(sample.pose);
-  if (sample.stale && !input_lost_)
-    emit(EventKind::kInputLost, sample.silence_s, "device silent: force zeroed");
-  input_lost_ = sample.stale;
-  const bool rejected = !in.accepted && !sample.stale;
-  if (rejected && !input_rejecting_)
-    emit(EventKind::kInputRejected, in.jump_m, in.non_finite ? "non-finite pose" : "pose jump");
-  input_rejecting_ = rejected;
-  const Vec3 omega_target =
-      rotation_between(last_target_orientation_, in.target.orientation) / dt;
-  last_target_orientation_ = in.target.orientation;
-  clock.lap(StepStage::kInput);
-
-  Vec3 nucleus_force = Vec3::Zero();
-  Vec3 nucleus_torque_grip = Vec3::Zero();
-  RigidContact contact;
-  Vec3 coupling_force = Vec3::Zero();
-
-  if (instrument_) {
-    const Pose grip = rigid_->instrument_grip();
-    const Vec3 com = rigid_->instrument_com_world();
-    const Vec3 v0 = rigid_->instrument_com_velocity();
-    const Vec3 w0 = rigid_->instrument_angular_velocity();
-    const Vec3 v_grip = v0 + w0.cross(grip.position - com);
-
-    // nucleus: particles step against the instrument at its current pose and velocity.
-    instrument_->world_colliders(grip, v_grip, w0, moving_);
-    BodyReaction& reaction = reactions_[0];
-    reaction = BodyReaction{};
-    reaction.reference_point = com;
-    if (nucleus_) {
-      NumericalReport report;
-      nucleus_->step(dt, moving_, reactions_, report);
-      frame_.solver_iterations = report.iterations;
-      if (!report.ok && !failed_) {
-        emit(EventKind::kNumerical, report.residual, report.stage);
-        failed_ = true;
-      }
-    }
-    clock.lap(StepStage::kNucleus);
-
-    // instrument: implicit update of the 6-DOF body under coupling, nucleus reaction and
-    // gravity. Damping terms (coupling damper, nucleus drag) are taken at the new velocity, so
-    // the update is stable for any drag (backward Euler in the velocities; Baraff & Witkin 1998).
-    const auto& cc = config_.coupling;
-    const double m = config_.instrument.mass_kg;
-    const Eigen::Matrix3d inertia = rigid_->instrument_world_inertia();
-    const double i_perp = instrument_->principal_inertia().x();
-    const double ks = cc.stiffness_N_m;
-    const double kd = cc.damping_Ns_m >= 0 ? cc.damping_Ns_m : 2.0 * std::sqrt(m * ks);
-    const double kr = cc.rot_stiffness_Nm_rad;
-    const double krd =
-        cc.rot_damping_Nms_rad >= 0 ? cc.rot_damping_Nms_rad : 2.0 * std::sqrt(i_perp * kr);
-
-    const Vec3 r_g = grip.position - com;
-    const Vec3 r_w = reaction.reference_point - com;
-    Eigen::Matrix<double, 3, 6> J_g, J_w;
-    J_g << Eigen::Matrix3d::Identity(), -skew(r_g);
-    J_w << Eigen::Matrix3d::Identity(), -skew(r_w);
-    Eigen::Matrix<double, 6, 6> M = Eigen::Matrix<double, 6, 6>::Zero();
-    M.topLeftCorner<3, 3>() = m * Eigen::Matrix3d::Identity();
-    M.bottomRightCorner<3, 3>() = inertia;
-    Eigen::Matrix<double, 6, 6> P_w = Eigen::Matrix<double, 6, 6>::Zero();
-    P_w.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
-
-    Eigen::Matrix<double, 6, 1> u0;
-    u0 << v0, w0;
-    const Vec3 f_spring = ks * (in.target.position - grip.position);
-    const Vec3 t_spring = kr * rotation_between(grip.orientation, in.target.orientation);
-    Eigen::Matrix<double, 6, 1> f = Eigen::Matrix<double, 6, 1>::Zero();
-    f.head<3>() += f_spring + reaction.force_N + m * config_.gravity_m_s2;
-    f.tail<3>() += r_g.cross(f_spring) + t_spring + reaction.torque_Nm +
-                   (reaction.reference_point - com).cross(reaction.force_N);
-    f += J_g.transpose() * (kd * in.target_velocity);
-    f.tail<3>() += krd * omega_target;
-    const Eigen::Matrix<double, 6, 6> D = kd * J_g.transpose() * J_g + krd * P_w +
-                                          reaction.drag_Ns_m * J_w.transpose() * J_w +
-                                          reaction.rot_drag_Nms * P_w;
-    // The nucleus force was evaluated at u0: its drag part is moved to the new velocity.
-    const Eigen::Matrix<double, 6, 1> rhs =
-        M * u0 + dt * (f + (reaction.drag_Ns_m * J_w.transpose() * J_w +
-                            reaction.rot_drag_Nms * P_w) * u0);
-    const Eigen::Matrix<double, 6, 1> u1 = (M + dt * D).ldlt().solve(rhs);
-    const Eigen::Matrix<double, 6, 1> gen = M * (u1 - u0) / dt;
-    contact = rigid_->step(dt, gen.head<3>(), gen.tail<3>());
-
-    nucleus_force = reaction.force_N;
-    nucleus_torque_grip =
-        reaction.torque_Nm + (reaction.reference_point - grip.position).cross(reaction.force_N);
-
-    // Coupling force on the instrument at the new state (what the user's hand supplies).
-    const Pose g1 = rigid_->instrument_grip();
-    const Vec3 vg1 = rigid_->instrument_grip_velocity();
-    coupling_force = ks * (in.target.position - g1.position) + kd * (in.target_velocity - vg1);
-    frame_.instrument = g1;
-    frame_.tip_m = g1.apply(instrument_->working_point());
-    clock.lap(StepStage::kInstrument);
-
-    // Shaft bending moment at the grip: moment of the distal loads (particles, rigid
-    // contact, the instrument's weight) about the grip, less its torsion component.
-    const Vec3 axis = g1.orientation * Vec3::UnitZ();
-    const Vec3 com1 = rigid_->instrument_com_world();
-    Vec3 moment = nucleus_torque_grip + contact.torque_about_grip_Nm +
-                  (com1 - g1.position).cross(m * config_.gravity_m_s2);
-    moment -= moment.dot(axis) * axis;
-    frame_.bending_moment_Nm = moment.norm();
-    const bool warn = frame_.bending_moment_Nm > summary_.warning_moment_Nm;
-    const bool yield = frame_.bending_moment_Nm > summary_.yield_moment_Nm;
-    if (warn && !warning_active_)
-      emit(EventKind::kOverloadWarning, frame_.bending_moment_Nm, "shaft moment above warning");
-    if (yield && !yield_active_)
-      emit(EventKind::kOverloadYield, frame_.bending_moment_Nm, "shaft moment above yield");
-    warning_active_ = warn;
-    yield_active_ = yield;
-
-    // anatomy: danger zones against the instrument at its new pose; the force
-    // near a zone is what the instrument presses on tissue (bone contact and nucleus).
-    if (anatomy_) {
-      instrument_->world_colliders(g1, vg1, rigid_->instrument_angular_velocity(), moving_);
-      evaluate_zones_and_emit(contact.force_N + nucleus_force);
-    }
-
-    if (!g1.position.allFinite() || !g1.orientation.coeffs().allFinite() ||
-        !vg1.allFinite()) {
-      if (!failed_) emit(EventKind::kNumerical, 0.0, "instrument");
-      failed_ = true;
-    }
-  } else if (nucleus_) {
-    NumericalReport report;
-    nucleus_->step(dt, {}, {}, report);
-    if (!report.ok && !failed_) {
-      emit(EventKind::kNumerical, report.residual, report.stage);
-      failed_ = true;
-    }
-    rigid_->step(dt, Vec3::Zero(), Vec3::Zero());
-    clock.lap(StepStage::kNucleus);
-  }
-
-  // feedback: the user feels the reaction of the coupling, limited for the device.
-  const GuardedForce out = guard_.limit(-coupling_force, t_ + dt);
-  if (out.clamped && !clamp_active_)
-    emit(EventKind::kForceClamped, out.requested_N, "force above device maximum");
-  clamp_active_ = out.clamped;
-  clock.lap(StepStage::kFeedback);
-
-  // record.
-  t_ += dt;
-  ++steps_;
-  frame_.t_s = t_;
-  frame_.device = in.target;
-  frame_.input_valid = in.accepted;
-  frame_.coupling_force_N = coupling_force;
-  frame_.feedback_force_N = out.force_N;
-  frame_.nucleus_force_N = nucleus_force;
-  frame_.contact_force_N = contact.force_N;
-  if (nucleus_) {
-    frame_.broken_bonds = static_cast<std::int32_t>(nucleus_->broken_bond_count());
-    frame_.active_particles = static_cast<std::int32_t>(nucleus_->active_count());
-    count_removed();
-  }
-  clock.lap(StepStage::kRecord);
-  ++times_.steps;
-  return frame_;
 }
 
 std::uint64_t World::state_hash() const {

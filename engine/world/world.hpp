@@ -1,7 +1,10 @@
 // The simulated scene: built from a WorldConfig with only the parts it declares, stepped at a
 // fixed rate by device samples, emitting a Frame per step and Events when they happen.
 //
-// Step stages (each timed): input -> nucleus -> instrument -> feedback -> record.
+// The step is a fixed list of stages, each a member function and each timed: input (the
+// guarded device pose becomes the coupling's target) -> nucleus (the particles against the
+// instrument) -> instrument (its implicit update, Bullet's contacts, the shaft's load, the danger
+// zones) -> feedback (the force the device renders) -> record (the frame).
 #pragma once
 
 #include <array>
@@ -11,12 +14,13 @@
 #include <vector>
 
 #include "engine/anatomy/anatomy.hpp"
-#include "engine/geometry/collider.hpp"
-#include "engine/devices/device_guard.hpp"
 #include "engine/core/frame.hpp"
+#include "engine/devices/device_guard.hpp"
 #include "engine/devices/input_device.hpp"
-#include "engine/rigid/instrument.hpp"
+#include "engine/geometry/collider.hpp"
 #include "engine/nucleus/nucleus.hpp"
+#include "engine/rigid/instrument.hpp"
+#include "engine/rigid/instrument_dynamics.hpp"
 #include "engine/rigid/rigid_world.hpp"
 #include "engine/world/world_config.hpp"
 
@@ -85,9 +89,19 @@ class World {
   std::uint64_t state_hash() const;
 
  private:
-  void emit(EventKind kind, double value, const char* detail);
-  void count_removed();
+  struct StepData;  // what one step's stages hand on to the next
+  // The stages of step(), in order.
+  void read_input(const DeviceSample& sample, StepData& s);
+  void step_nucleus();
+  void step_instrument(StepData& s);
+  void send_feedback(StepData& s);
+  void record(const StepData& s);
+
+  void check_shaft_load(const Pose& grip, const Vec3& nucleus_moment_Nm,
+                        const RigidContact& contact);
   void evaluate_zones_and_emit(const Vec3& tissue_force_N);
+  void count_removed();
+  void emit(EventKind kind, double value, const char* detail);
 
   WorldConfig config_;
   WorldSummary summary_;
@@ -98,6 +112,7 @@ class World {
   std::unique_ptr<RigidWorld> rigid_;
   std::unique_ptr<Nucleus> nucleus_;
   DeviceGuard guard_;
+  CouplingGains coupling_;  // the coupling's gains, critical damping resolved
 
   std::vector<Collider> moving_;        // instrument colliders, world frame (capacity fixed)
   std::vector<BodyReaction> reactions_; // one per moving body

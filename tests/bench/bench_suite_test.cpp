@@ -1,6 +1,6 @@
 // The benchmark machinery on a tiny scene (the box module on a 3 mm lattice, ~250 particles,
-// 0.1 s windows): the report holds every part with the issue's keys, the reference's errors
-// against itself are exactly zero, every other error is finite. No timing assertions.
+// 0.1 s windows): the report holds every part with the documented JSON keys, the reference's
+// errors against itself are exactly zero, every other error is finite. No timing assertions.
 #include "bench/bench_suite.hpp"
 
 #include <gtest/gtest.h>
@@ -139,7 +139,7 @@ void check_plot() {
   EXPECT_GT(ink, 1000u);
 }
 
-TEST(BenchSuite, TinyBoxRunHoldsEveryPartWithZeroReferenceErrorAndTheIssueKeys) {
+TEST(BenchSuite, TinyBoxRunHoldsEveryPartWithZeroReferenceErrorAndTheDocumentedKeys) {
   BenchReport report;
   std::string error;
   ASSERT_TRUE(run_bench_suite(tiny_config(), &report, &error)) << error;

@@ -62,7 +62,7 @@ TEST(StressSuite, EnergyRuleSeparatesGrowthFromJitter) {
   }, 400));
 }
 
-TEST(StressSuite, CoversTheIssueSweeps) {
+TEST(StressSuite, SweepsStepStiffnessViscositySpeedAndBadInput) {
   const auto cases = builtin_stress_cases(true);
   double dt_min = 1, dt_max = 0, k_max = 0, mu_min = 1e9, mu_max = 0, v_max = 0;
   bool teleport = false, bad = false;

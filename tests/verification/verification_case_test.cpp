@@ -19,7 +19,7 @@ void expect_all_pass(const VerificationCaseSpec& spec) {
 
 VerificationCaseSpec fast(const char* kind) { return default_verification_case(kind, true); }
 
-TEST(Verification, EveryIssueCaseIsBuiltIn) {
+TEST(Verification, EveryAnalyticCaseIsBuiltIn) {
   const auto kinds = verification_case_kinds();
   for (const char* k : {"couette_shear", "buoyancy", "lever_feedback", "lift_equilibrium",
                         "bond_break", "lump_retention", "oscillator", "viscous_decay"})

@@ -39,6 +39,18 @@ TEST(World, BuildsOnlyWhatIsDeclared) {
   EXPECT_EQ(full.last_frame().removed_target, 0);
 }
 
+TEST(World, NucleusWithoutInstrumentReportsItsSolverIterations) {
+  WorldConfig c = small_box();
+  c.instrument.enabled = false;
+  World w(c);
+  ASSERT_EQ(w.instrument(), nullptr);
+  const Frame& f = w.step(DeviceSample{});
+  EXPECT_GT(f.solver_iterations, 0);
+  EXPECT_EQ(f.nucleus_force_N, Vec3::Zero());
+  EXPECT_EQ(f.coupling_force_N, Vec3::Zero());
+  EXPECT_FALSE(w.failed());
+}
+
 TEST(World, CouplingHoldsTheInstrumentAgainstGravityInFreeSpace) {
   // Without contact, the coupling spring carries the instrument's weight: the steady offset is
   // m*g/ks and the force sent to the user is the weight (once ramped in).

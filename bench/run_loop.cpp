@@ -1,0 +1,60 @@
+// The benchmark runs' shared stepping loop (see the header).
+#include "bench/run_loop.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace acdr {
+
+std::int64_t run_step_count(double duration_s, double dt_s) {
+  return static_cast<std::int64_t>(std::llround(duration_s / dt_s));
+}
+
+std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& window, RunTrace& out,
+                            const std::function<LoopStep(std::int64_t)>& step,
+                            const std::function<void(double)>& progress) {
+  using Clock = std::chrono::steady_clock;
+  const std::int64_t steps = run_step_count(duration_s, dt_s);
+  const auto windows = static_cast<std::size_t>(std::floor(duration_s / window.sample_s + 1e-9));
+  out.t_s.reserve(windows);
+  out.force_N.reserve(windows);
+  out.instrument.reserve(windows);
+  Vec3 f_sum = Vec3::Zero();
+  int f_count = 0;
+  auto start = Clock::now();
+  double cpu_start = thread_cpu_s();
+  std::int64_t ran = 0;
+  for (std::int64_t k = 0; k < steps; ++k) {
+    if (k == window.warmup_steps && k > 0) {
+      start = Clock::now();
+      cpu_start = thread_cpu_s();
+    }
+    const auto step_start = Clock::now();
+    const LoopStep s = step(k);
+    out.max_step_wall_s = std::max(
+        out.max_step_wall_s, std::chrono::duration<double>(Clock::now() - step_start).count());
+    ++ran;
+    f_sum += s.force_N;
+    ++f_count;
+    // Close a force window when this step ends on (or just past) its boundary.
+    const double t_rel = double(k + 1) * dt_s;
+    const double boundary = double(out.t_s.size() + 1) * window.sample_s;
+    if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt_s) {
+      out.t_s.push_back(boundary);
+      out.force_N.push_back(f_sum / f_count);
+      if (s.instrument) out.instrument.push_back(*s.instrument);
+      f_sum = Vec3::Zero();
+      f_count = 0;
+    }
+    if (s.stop) break;
+    if (progress && (k % 250 == 0)) progress(double(k) / double(steps));
+  }
+  out.cpu_s = thread_cpu_s() - cpu_start;
+  out.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  out.timed_steps = std::max<std::int64_t>(0, ran - window.warmup_steps);
+  if (progress) progress(1.0);
+  return ran;
+}
+
+}  // namespace acdr
