@@ -114,12 +114,9 @@ void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out) co
   t0 = std::chrono::steady_clock::now();
   out.element_stress_Pa.resize(tets);
   out.element_von_mises_Pa.resize(tets);
-  out.element_principal_Pa.resize(tets);
   model_->element_stress(out.dof_displacement_m, out.element_stress_Pa);
-  for (std::size_t t = 0; t < tets; ++t) {
+  for (std::size_t t = 0; t < tets; ++t)
     out.element_von_mises_Pa[t] = von_mises(out.element_stress_Pa[t]);
-    out.element_principal_Pa[t] = principal_stresses(out.element_stress_Pa[t]);
-  }
   out.node_stress_Pa.resize(nodes);
   model_->nodal_stress(out.dof_displacement_m, out.element_stress_Pa, out.node_stress_Pa);
   out.node_von_mises_Pa.resize(nodes);

@@ -61,10 +61,11 @@ struct BoneSolution {
   std::vector<Vec3> displacement_m;  ///< per mesh node (corner)
   /// Per tetrahedron, at its centroid; in shell tetrahedra the stress in the shell itself
   /// (cortex or bony endplate) at the element's strain (bone_material.hpp, stress_material).
+  /// Principal stresses cost more than the rest of the recovery (trigonometry); callers take
+  /// them where they need them with principal_stresses(element_stress_Pa[t]).
   std::vector<Stress6> element_stress_Pa;
   std::vector<double> element_von_mises_Pa;
-  std::vector<Vec3> element_principal_Pa;  ///< ascending
-  std::vector<double> node_von_mises_Pa;   ///< per mesh node, volume-weighted average (drawing)
+  std::vector<double> node_von_mises_Pa;  ///< per mesh node, volume-weighted average (drawing)
   int contacts_applied = 0;
   int contacts_missed = 0;              ///< farther than max_snap_m from the surface
   Vec3 applied_force_N = Vec3::Zero();  ///< sum of the applied contact forces
