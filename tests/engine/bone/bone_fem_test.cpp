@@ -4,9 +4,12 @@
 #include "engine/bone/bone_fem.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <thread>
 
+#include "engine/geometry/mesh_io.hpp"
 #include "engine/geometry/mesh_shapes.hpp"
 
 namespace acdr {
@@ -135,6 +138,33 @@ TEST_F(C5Model, ContactOffTheBoneIsCountedNotApplied) {
   EXPECT_EQ(s.contacts_applied, 0);
   EXPECT_EQ(s.contacts_missed, 1);
   for (const Vec3& u : s.displacement_m) EXPECT_EQ(u.norm(), 0.0);
+}
+
+TEST(BoneFem, ImportedMeshGoesTheSameWay) {
+  // C4 written to binary STL in millimetres and read back (single precision, welded), as a
+  // segmentation export would come in.
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("acdr_bone_c4_" + std::to_string(::getpid()) + ".stl"))
+                               .string();
+  std::string error;
+  ASSERT_TRUE(save_mesh_file(generate_vertebra(SegmentParams{}, VertebraLevel::kC4), path,
+                             MeshFormat::kStlBinary, LengthUnit::kMillimetre, &error))
+      << error;
+  const auto surface = load_closed_mesh_file(path, LengthUnit::kMillimetre, &error);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(surface) << error;
+  BoneFemConfig config;
+  config.meshing.size_m = 2.5e-3;
+  BoneFemReport report;
+  const auto bone =
+      BoneFem::build(*surface, SegmentParams{}, VertebraLevel::kC4, config, "", &report, &error);
+  ASSERT_NE(bone, nullptr) << error;
+  for (int r = 0; r < kBoneRegionCount; ++r) EXPECT_GT(report.region_tets[r], 0u) << r;
+  // C4's supports are on its upper side.
+  const double top = bone->body().center_m.y() + bone->body().half_height_m;
+  for (std::size_t i = 0; i < bone->mesh().nodes.size(); ++i)
+    if (bone->supports()[i])
+      EXPECT_GE(bone->mesh().nodes[i].y(), top - config.support_depth_m - 1e-12);
 }
 
 TEST(BoneFem, OpenSurfaceIsAReturnedError) {
