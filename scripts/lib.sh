@@ -10,6 +10,7 @@ ACDR_PACKAGES=(
   libbullet-dev libeigen3-dev libsqlite3-dev nlohmann-json3-dev libimgui-dev libstb-dev
   libosmesa6-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   libtinyobjloader-dev zlib1g-dev
+  libcgal-dev libgmp-dev libmpfr-dev libsuitesparse-dev
   xvfb xauth
 )
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "verification/bone_cases.hpp"
 #include "verification/cases.hpp"
 
 namespace acdr {
@@ -26,6 +27,9 @@ constexpr Kind kKinds[] = {
     {"lump_retention", verification::lump_retention_defaults, verification::run_lump_retention},
     {"oscillator", verification::oscillator_defaults, verification::run_oscillator},
     {"viscous_decay", verification::viscous_decay_defaults, verification::run_viscous_decay},
+    {"bone_compression", verification::bone_compression_defaults, verification::run_bone_compression},
+    {"bone_cantilever", verification::bone_cantilever_defaults, verification::run_bone_cantilever},
+    {"bone_convergence", verification::bone_convergence_defaults, verification::run_bone_convergence},
 };
 
 const Kind* find_kind(std::string_view name) {
