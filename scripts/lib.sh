@@ -32,7 +32,12 @@ acdr_install_missing() {
 
 acdr_build() {
   echo "==> configuring (Release) in $ACDR_BUILD"
-  cmake -S "$ACDR_ROOT" -B "$ACDR_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  # ccache, when the machine has it, makes a rebuild in a second clone or worktree cheap.
+  local launcher=()
+  if command -v ccache >/dev/null; then
+    launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  fi
+  cmake -S "$ACDR_ROOT" -B "$ACDR_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
   echo "==> building"
   cmake --build "$ACDR_BUILD" -j"$(nproc)"
 }
