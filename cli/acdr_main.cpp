@@ -51,6 +51,11 @@ int main(int argc, char** argv) {
                       "killed run keeps it (default 5; 0: never); live runs write it on a "
                       "thread of their own")
       ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--store-wait", run.store_patience_s,
+                      "Seconds to keep trying when the record cannot be written at the end "
+                      "(locked by another program, disk full) before keeping the result in "
+                      "a side file next to the database (default 10)")
+      ->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("--realtime", run.realtime,
                     "Ask for real-time priority for the haptic loop (needs the privilege)");
   run_cmd->add_option("--screenshot", run.screenshot,

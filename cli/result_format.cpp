@@ -139,6 +139,7 @@ nlohmann::json result_json(const SessionResult& result, const std::string& png_p
   j["stored_as"] = result.stored_as;
   j["attempt_id"] = result.attempt_id;
   j["db"] = result.db_path;
+  if (!result.unsaved_file.empty()) j["unsaved_file"] = result.unsaved_file;
   if (!png_path.empty()) j["png"] = png_path;
   if (result.checkpoints) {
     // What the checkpoints cost: on the writer thread per checkpoint, and on the physics
@@ -261,6 +262,8 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
                 static_cast<long long>(result.attempt_id), result.stored_as.c_str(),
                 result.db_path.c_str());
   s += line;
+  if (!result.unsaved_file.empty())
+    s += "  result kept in " + result.unsaved_file + " until the record can be written\n";
   if (!png_path.empty()) s += "  picture of the final frame: " + png_path + "\n";
   if (result.checkpoints) {
     const LiveCheckpointStats& k = result.checkpoints->stats;

@@ -208,7 +208,8 @@ std::string attempt_label(std::int64_t id) {
 }  // namespace
 
 std::string unsaved_outcome_path(const std::string& db_path, std::int64_t attempt_id) {
-  return (directory_of(db_path) /
+  // In the database's directory, written as the database's path was (relative stays relative).
+  return (fs::path(db_path).parent_path() /
           (name_prefix(db_path) + std::to_string(attempt_id) + std::string(kSuffix)))
       .string();
 }
