@@ -101,6 +101,10 @@ int main(int argc, char** argv) {
   sim_cmd->add_option("--forces-csv", sim.forces_csv, "Log the forces received to a CSV file");
   sim_cmd->add_option("--connect-timeout", sim.bridge.connect_timeout_s,
                       "Seconds to wait for the simulator to answer (default 30)");
+  sim_cmd->add_option("--peer-timeout", sim.bridge.peer_timeout_s,
+                      "Seconds without a force from the simulator, once playing, after which "
+                      "it counts as gone (default 5; exit code 1)")
+      ->check(CLI::PositiveNumber);
   sim_cmd->add_option("--drop-every", sim.bridge.drop_every,
                       "Fault: withhold every n-th pose packet");
   sim_cmd->add_option("--silence-at", sim.bridge.silence_at_s,

@@ -72,6 +72,8 @@ nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
                  {"packets_received", h.link.packets_received},
                  {"packets_late", h.link.packets_late},
                  {"packets_malformed", h.link.packets_malformed},
+                 {"packets_foreign", h.link.packets_foreign},
+                 {"last_foreign", h.link.last_foreign},
                  {"forces_sent", h.link.forces_sent},
                  {"send_errors", h.link.send_errors},
                  {"silences", h.link.silences},
@@ -250,11 +252,12 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
     if (result.haptics->has_link) {
       const UdpDeviceStats& l = result.haptics->link;
       std::snprintf(line, sizeof line,
-                    "  bridge %s: %lld packets, %lld lost, %lld malformed, max force sent "
-                    "%.3f N\n",
+                    "  bridge %s: %lld packets, %lld lost, %lld malformed, %lld from other "
+                    "senders (ignored), max force sent %.3f N\n",
                     l.bridge.c_str(), static_cast<long long>(l.packets_received),
                     static_cast<long long>(l.packets_lost),
-                    static_cast<long long>(l.packets_malformed), l.max_force_sent_N);
+                    static_cast<long long>(l.packets_malformed),
+                    static_cast<long long>(l.packets_foreign), l.max_force_sent_N);
       s += line;
     }
   }

@@ -212,6 +212,7 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
   ASSERT_GT(run, 0);
   const pid_t bridge = spawn({ACDR_EXE, "device-sim", "--port", std::to_string(port),
                               "--trajectory", trajectory, "--connect-timeout", "20",
+                              "--peer-timeout", "1",
                               "--nan-at", "0.15"},  // a rejected pose: an event to keep
                              true);
   ASSERT_GT(bridge, 0);
@@ -222,8 +223,23 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
     ASSERT_EQ(kill(run, SIGKILL), 0);
     ASSERT_EQ(waitpid(run, &status, 0), run);
   }
-  kill(bridge, SIGKILL);  // our own child: the device has no simulator to talk to any more
-  waitpid(bridge, nullptr, 0);
+  // The device notices that its simulator is gone (no force for its 1 s peer timeout) and
+  // says so with exit code 1, instead of playing on as if connected.
+  int bridge_status = 0;
+  bool bridge_exited = false;
+  for (auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+       !bridge_exited && std::chrono::steady_clock::now() < give_up;
+       std::this_thread::sleep_for(std::chrono::milliseconds(20)))
+    bridge_exited = waitpid(bridge, &bridge_status, WNOHANG) == bridge;
+  if (!bridge_exited) {
+    kill(bridge, SIGKILL);  // our own child
+    waitpid(bridge, nullptr, 0);
+  }
+  EXPECT_TRUE(bridge_exited) << "device-sim played on after its simulator was killed";
+  if (bridge_exited) {
+    EXPECT_TRUE(WIFEXITED(bridge_status));
+    EXPECT_EQ(WEXITSTATUS(bridge_status), 1) << "device-sim should report the lost simulator";
+  }
   ASSERT_FALSE(exited) << "acdr run ended before it was killed (exit "
                        << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << ")";
   ASSERT_TRUE(WIFSIGNALED(status));
