@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -205,6 +207,63 @@ std::string attempt_label(std::int64_t id) {
   return "attempt " + std::to_string(id);
 }
 
+// Writes `bytes` to `path` atomically: the whole file under a temporary name, synced, then
+// renamed over the final name and the directory synced, so the file is either absent or
+// complete.
+DbStatus write_atomically(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+  const std::string temp = path + ".tmp-" + std::to_string(::getpid());
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+  if (fd < 0) return DbError{system_error_text(temp, "cannot create the side file"), 0};
+  const bool written = write_all(fd, bytes);
+  const int write_errno = errno;
+  const bool synced = written && ::fsync(fd) == 0;
+  const int sync_errno = errno;
+  ::close(fd);
+  if (!written || !synced) {
+    errno = written ? sync_errno : write_errno;
+    DbError err{system_error_text(
+                    temp, written ? "cannot sync the side file" : "cannot write the side file"),
+                0};
+    ::unlink(temp.c_str());
+    return err;
+  }
+  if (::rename(temp.c_str(), path.c_str()) != 0) {
+    DbError err{system_error_text(path, "cannot rename the side file into place"), 0};
+    ::unlink(temp.c_str());
+    return err;
+  }
+  const fs::path parent = fs::path(path).parent_path();
+  const int dir =
+      ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    (void)::fsync(dir);  // best effort: the file itself is already synced
+    ::close(dir);
+  }
+  return {};
+}
+
+// In the fallback directory, side files of many records meet: their names start with the
+// CRC-32 of the record's absolute path, then the attempt.
+std::string fallback_prefix(const std::string& db_path) {
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(db_path, ec);
+  const std::string key = (ec ? fs::path(db_path) : absolute).lexically_normal().string();
+  char hex[16];
+  std::snprintf(hex, sizeof hex, "%08x",
+                crc_of(reinterpret_cast<const std::uint8_t*>(key.data()), key.size()));
+  return std::string(hex) + ".attempt-";
+}
+
+// The side files in `dir` whose names start with `prefix`, with their attempt ids.
+void collect(const fs::path& dir, const std::string& prefix,
+             std::vector<std::pair<std::int64_t, std::string>>& found) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::int64_t id = id_in_name(it->path().filename().string(), prefix);
+    if (id > 0) found.emplace_back(id, it->path().string());
+  }
+}
+
 }  // namespace
 
 std::string unsaved_outcome_path(const std::string& db_path, std::int64_t attempt_id) {
@@ -267,36 +326,22 @@ DbResult<std::string> write_unsaved_outcome(const std::string& db_path,
   }
   w.u32(crc_of(w.bytes().data(), w.bytes().size()));
 
-  // Atomic: the whole file under a temporary name, synced, then renamed over the final name
-  // and the directory synced, so the side file is either absent or complete.
+  // Next to the database; if that fails (the disk that is full is usually the database's),
+  // in the fallback directory, which the next start searches too.
   const std::string path = unsaved_outcome_path(db_path, unsaved.attempt_id);
-  const std::string temp = path + ".tmp-" + std::to_string(::getpid());
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-  if (fd < 0) return DbError{system_error_text(temp, "cannot create the side file"), 0};
-  const bool written = write_all(fd, w.bytes());
-  const int write_errno = errno;
-  const bool synced = written && ::fsync(fd) == 0;
-  const int sync_errno = errno;
-  ::close(fd);
-  if (!written || !synced) {
-    errno = written ? sync_errno : write_errno;
-    DbError err{system_error_text(
-                    temp, written ? "cannot sync the side file" : "cannot write the side file"),
-                0};
-    ::unlink(temp.c_str());
-    return err;
-  }
-  if (::rename(temp.c_str(), path.c_str()) != 0) {
-    DbError err{system_error_text(path, "cannot rename the side file into place"), 0};
-    ::unlink(temp.c_str());
-    return err;
-  }
-  const int dir = ::open(directory_of(db_path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir >= 0) {
-    (void)::fsync(dir);  // best effort: the file itself is already synced
-    ::close(dir);
-  }
-  return path;
+  DbStatus here = write_atomically(path, w.bytes());
+  if (here) return path;
+  const fs::path elsewhere = unsaved_fallback_directory();
+  std::error_code ec;
+  fs::create_directories(elsewhere, ec);
+  const std::string fallback =
+      (elsewhere / (fallback_prefix(db_path) + std::to_string(unsaved.attempt_id) +
+                    std::string(kSuffix)))
+          .string();
+  DbStatus there = ec ? DbStatus(DbError{elsewhere.string() + ": " + ec.message(), 0})
+                      : write_atomically(fallback, w.bytes());
+  if (there) return fallback;
+  return DbError{here.error().message + "; nor in " + there.error().message, 0};
 }
 
 DbResult<UnsavedOutcome> read_unsaved_outcome(const std::string& path) {
@@ -392,16 +437,19 @@ DbResult<UnsavedOutcome> read_unsaved_outcome(const std::string& path) {
   return u;
 }
 
+std::string unsaved_fallback_directory() {
+  // XDG Base Directory: state data lives in $XDG_STATE_HOME (absolute), else ~/.local/state.
+  if (const char* xdg = std::getenv("XDG_STATE_HOME"); xdg && xdg[0] == '/')
+    return (fs::path(xdg) / "acdr" / "unsaved").string();
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return (fs::path(home) / ".local" / "state" / "acdr" / "unsaved").string();
+  return (fs::temp_directory_path() / "acdr-unsaved").string();
+}
+
 std::vector<std::string> find_unsaved_outcomes(const std::string& db_path) {
   std::vector<std::pair<std::int64_t, std::string>> found;
-  const std::string prefix = name_prefix(db_path);
-  std::error_code ec;
-  for (fs::directory_iterator it(directory_of(db_path), ec), end; !ec && it != end;
-       it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    const std::int64_t id = id_in_name(name, prefix);
-    if (id > 0) found.emplace_back(id, it->path().string());
-  }
+  collect(directory_of(db_path), name_prefix(db_path), found);
+  collect(unsaved_fallback_directory(), fallback_prefix(db_path), found);
   std::sort(found.begin(), found.end());
   std::vector<std::string> paths;
   for (auto& f : found) paths.push_back(std::move(f.second));

@@ -5,7 +5,8 @@
 // So a finished attempt is never lost, and never turned into an aborted one, because its final
 // commit failed.
 //
-// Name: "<database file>.attempt-<id>.unsaved", in the database's directory. Written atomically
+// Name: "<database file>.attempt-<id>.unsaved", in the database's directory (if that cannot be
+// written: unsaved_fallback_directory()). Written atomically
 // (a temporary file in the same directory, fsync, rename, fsync of the directory): a crash
 // leaves either no side file or a complete one. Format "acdr-unsaved-attempt" version 1,
 // little-endian, exact (doubles as their bit patterns), ending in the CRC-32 (zlib's) of
@@ -45,8 +46,15 @@ struct UnsavedOutcome {
 /// Where the side file of attempt `attempt_id` of the record at `db_path` lives.
 std::string unsaved_outcome_path(const std::string& db_path, std::int64_t attempt_id);
 
-/// Writes `unsaved` atomically to unsaved_outcome_path(); returns that path, or an error naming
-/// the file and what failed (then no side file exists).
+/// Where a side file goes when it cannot be written next to the database (the disk that is
+/// full is usually the database's): $XDG_STATE_HOME/acdr/unsaved if that is set (absolute),
+/// else ~/.local/state/acdr/unsaved. There its name starts with the CRC-32 of the database's
+/// absolute path in hex: "<crc>.attempt-<id>.unsaved".
+std::string unsaved_fallback_directory();
+
+/// Writes `unsaved` atomically to unsaved_outcome_path(), or, when that fails, to the fallback
+/// directory; returns the path written, or an error naming both files and what failed (then no
+/// side file exists).
 DbResult<std::string> write_unsaved_outcome(const std::string& db_path,
                                             const UnsavedOutcome& unsaved);
 
@@ -54,7 +62,8 @@ DbResult<std::string> write_unsaved_outcome(const std::string& db_path,
 /// naming the file, the byte offset and what was expected.
 DbResult<UnsavedOutcome> read_unsaved_outcome(const std::string& path);
 
-/// The side files waiting next to the record at `db_path`, in attempt order.
+/// The side files waiting for the record at `db_path` (next to it and in the fallback
+/// directory), in attempt order.
 std::vector<std::string> find_unsaved_outcomes(const std::string& db_path);
 
 /// What store_unsaved_outcomes did.

@@ -8,7 +8,9 @@
 #include <netinet/in.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/mount.h>
 #include <sys/socket.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -334,10 +336,11 @@ struct Ran {
   int code = -1;
   std::string out, err;
 };
-Ran run_acdr(const test::TempDir& dir, const std::string& args) {
+Ran run_acdr(const test::TempDir& dir, const std::string& args,
+             const std::string& environment = "") {
   const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-  const int status =
-      std::system((std::string(ACDR_EXE) + " " + args + " >'" + out + "' 2>'" + err + "'").c_str());
+  const int status = std::system(
+      (environment + ACDR_EXE + " " + args + " >'" + out + "' 2>'" + err + "'").c_str());
   Ran r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = read_text(out);
@@ -497,6 +500,86 @@ TEST(AcdrRunRecord, AFinishedAttemptWhoseRecordIsLockedIsKeptAndStoredAtTheNextS
   ASSERT_TRUE(decoded) << error;
   EXPECT_NEAR(decoded->frames.back().t_s, duration, 1e-9);
   EXPECT_EQ(record.metrics.values, compute_metrics(*decoded).values);
+}
+
+// A small tmpfs mounted for one test (needs the privilege to mount; the test is skipped
+// without it), unmounted at the end.
+class TinyFileSystem {
+ public:
+  TinyFileSystem(const std::string& where, const char* size) : where_(where) {
+    std::filesystem::create_directories(where);
+    mounted_ = mount("acdr-test", where.c_str(), "tmpfs", 0, (std::string("size=") + size).c_str()) == 0;
+  }
+  ~TinyFileSystem() {
+    if (mounted_) umount2(where_.c_str(), MNT_DETACH);
+  }
+  bool mounted() const { return mounted_; }
+  // Fills it up to `leave` bytes free.
+  void fill(std::size_t leave) {
+    struct statvfs st {};
+    if (statvfs(where_.c_str(), &st) != 0) return;
+    const std::size_t free_bytes = static_cast<std::size_t>(st.f_bavail) * st.f_frsize;
+    std::ofstream filler(where_ + "/filler", std::ios::binary);
+    const std::string block(4096, '\0');
+    for (std::size_t n = 0; n + leave + block.size() <= free_bytes; n += block.size()) filler << block;
+  }
+  void empty() { std::filesystem::remove(where_ + "/filler"); }
+
+ private:
+  std::string where_;
+  bool mounted_ = false;
+};
+
+// The disk of the record fills up during an attempt: the run exits 5, the result goes to the
+// fallback directory (the full disk refuses the side file next to the database too), and once
+// space is back the next start stores it: the attempt is completed with all its seconds.
+TEST(AcdrRunRecord, AFullDiskKeepsTheResultInTheFallbackDirectory) {
+  test::TempDir dir, state;
+  TinyFileSystem disk(dir.file("disk"), "4m");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs CAP_SYS_ADMIN)";
+  const std::string db_path = dir.file("disk/record.sqlite");
+  const std::string trajectory = dir.file("long.csv");
+  write_long_trajectory(std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/short_scoop.csv",
+                        trajectory, 3);  // 9 s
+  const std::string scene_path = write_scene(dir);
+  const std::string out_path = dir.file("run.json"), err_path = dir.file("run.err");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    setenv("XDG_STATE_HOME", state.path().c_str(), 1);
+    if (!freopen(out_path.c_str(), "w", stdout) || !freopen(err_path.c_str(), "w", stderr))
+      _exit(120);
+    execl(ACDR_EXE, ACDR_EXE, "run", scene_path.c_str(), "--input",
+          ("replay:" + trajectory).c_str(), "--headless", "--db", db_path.c_str(),
+          "--checkpoint-every", "2", "--store-wait", "1", "--json", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  const bool exited = exited_before_chunks(db_path, child, 1, &status);
+  ASSERT_FALSE(exited) << read_text(err_path);
+  disk.fill(200 * 1024);  // far less than the recording needs
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  const std::string err = read_text(err_path);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 5) << err;
+  EXPECT_NE(err.find("full"), std::string::npos) << err;
+  const nlohmann::json shown = nlohmann::json::parse(read_text(out_path));
+  const std::string side_file = shown["unsaved_file"].get<std::string>();
+  EXPECT_EQ(std::filesystem::path(side_file).parent_path(), state.path() / "acdr" / "unsaved");
+  EXPECT_TRUE(std::filesystem::exists(side_file));
+
+  // Space is back: the next start (with the same fallback directory) stores it.
+  disk.empty();
+  const Ran report = run_acdr(dir, "report --db '" + db_path + "' --format json",
+                              "XDG_STATE_HOME='" + state.path().string() + "' ");
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_NE(report.err.find("now stored"), std::string::npos) << report.err;
+  EXPECT_FALSE(std::filesystem::exists(side_file));
+  const nlohmann::json stored = nlohmann::json::parse(report.out);
+  ASSERT_EQ(stored["attempts"].size(), 1u);
+  EXPECT_EQ(stored["attempts"][0]["status"], "completed");
+  EXPECT_EQ(stored["attempts"][0]["duration_s"].get<double>(), shown["duration_s"].get<double>());
+  EXPECT_EQ(stored["attempts"][0]["score"].get<double>(), shown["score"].get<double>());
 }
 
 }  // namespace

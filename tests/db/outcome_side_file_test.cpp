@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <stdlib.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -243,6 +245,47 @@ TEST(OutcomeSideFile, TheNextOpenSaysWhatItStored) {
   EXPECT_EQ(load_attempt(db.value(), id).value().value().status, AttemptStatus::kCompleted);
   EXPECT_FALSE(std::filesystem::exists(unsaved_outcome_path(path, id)));
   EXPECT_TRUE(std::filesystem::exists(unsaved_outcome_path(path, id + 5)));
+}
+
+// When the side file cannot be written next to the database (here: its temporary name is
+// taken by a directory; in life: the database's disk is full), it goes to the fallback
+// directory ($XDG_STATE_HOME/acdr/unsaved), where the next start finds and stores it too.
+TEST(OutcomeSideFile, WhenTheDatabasesDirectoryRefusesItTheFallbackDirectoryKeepsIt) {
+  TempDir dir, state;
+  const char* old_state = std::getenv("XDG_STATE_HOME");
+  const std::string saved_state = old_state ? old_state : "";
+  ASSERT_EQ(setenv("XDG_STATE_HOME", state.path().c_str(), 1), 0);
+  const std::string path = dir.file("record.sqlite");
+  std::int64_t id = 0;
+  {
+    Database db = test::open_or_fail(path);
+    test::register_curriculum(db, 1);
+    AttemptStart start;
+    start.module_id = "m1";
+    id = begin_attempt(db, start).value();
+  }
+  std::filesystem::create_directory(unsaved_outcome_path(path, id) + ".tmp-" +
+                                    std::to_string(getpid()));
+  AttemptOutcome outcome = test::make_outcome(55.0, true);
+  outcome.ended_utc = "2026-11-26T10:00:00.000Z";
+  DbResult<std::string> kept = write_unsaved_outcome(path, {id, "", outcome});
+  ASSERT_TRUE(kept.ok()) << kept.error().message;
+  EXPECT_EQ(std::filesystem::path(kept.value()).parent_path(),
+            state.path() / "acdr" / "unsaved");
+  EXPECT_EQ(find_unsaved_outcomes(path), std::vector<std::string>{kept.value()});
+  EXPECT_TRUE(find_unsaved_outcomes(dir.file("another.sqlite")).empty());
+
+  std::vector<std::string> notes;
+  DbResult<Database> db = open_store(path, {}, &notes);
+  ASSERT_TRUE(db.ok()) << db.error().message;
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("now stored"), std::string::npos) << notes[0];
+  EXPECT_EQ(load_attempt(db.value(), id).value().value().status, AttemptStatus::kCompleted);
+  EXPECT_FALSE(std::filesystem::exists(kept.value()));
+  if (old_state)
+    setenv("XDG_STATE_HOME", saved_state.c_str(), 1);
+  else
+    unsetenv("XDG_STATE_HOME");
 }
 
 }  // namespace
