@@ -4,12 +4,15 @@
 #include <fstream>
 #include <optional>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include "app/live_attempt.hpp"
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
 #include "db/checkpoint_writer.hpp"
+#include "db/outcome_side_file.hpp"
 #include "db/progression.hpp"
 #include "scenarios/scenario_loader.hpp"
 
@@ -55,9 +58,12 @@ std::string register_module(Database& db, const ScenarioModel& scenario) {
 // (its row exists from the start, status running, so a crash leaves a trace). Sets db_path and
 // attempt_id of `result`; nullopt when refused (`result` says why).
 std::optional<Database> begin_in_record(const SessionOptions& options,
-                                        const ScenarioModel& scenario, SessionResult& result) {
+                                        const ScenarioModel& scenario, SessionResult& result,
+                                        std::ostream& notes) {
   result.db_path = options.db.empty() ? default_database_path() : options.db;
-  auto db = open_store(result.db_path);
+  std::vector<std::string> replayed;  // results of earlier attempts kept in side files
+  auto db = open_store(result.db_path, {}, &replayed);
+  for (const std::string& line : replayed) notes << "note: " << line << "\n";
   if (!db) {
     refuse(result, db.error().message);
     return std::nullopt;
@@ -125,7 +131,7 @@ bool wait_for_bridge(UdpDevice& udp, const SessionOptions& options, Database& db
 // empty string.
 std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run,
                       const World& world, const std::string& record_path,
-                      std::string* stored_as) {
+                      double patience_s, std::string* stored_as, std::string* unsaved_file) {
   if (run.end == AttemptEnd::kStopped) {
     *stored_as = "aborted";
     if (auto aborted = abort_attempt(db, attempt_id, "stopped before the end by the trainee");
@@ -149,10 +155,11 @@ std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& r
     if (!file) return record_path + ": cannot write the recording";
   }
   outcome.recording = std::move(recording);
-  *stored_as = "completed";
-  if (auto stored = finish_attempt(db, attempt_id, outcome); !stored)
-    return stored.error().message;
-  return {};
+  const FinalRecord stored = finish_attempt_or_keep(db, attempt_id, std::move(outcome),
+                                                    patience_s);
+  *stored_as = stored.stored ? "completed" : "not written";
+  *unsaved_file = stored.side_file;
+  return stored.error;
 }
 
 // A live attempt (window, bridge), paced on the haptic thread and watched by `view` when there
@@ -237,7 +244,7 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   auto* udp = dynamic_cast<UdpDevice*>(device.get());
 
   // The record, then the device's first packet.
-  auto db = begin_in_record(options, scenario, result);
+  auto db = begin_in_record(options, scenario, result, notes);
   if (!db) return result;
   if (udp && !wait_for_bridge(*udp, options, *db, result, notes)) return result;
 
@@ -257,16 +264,25 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   }
 
   // The record again: stored before the score shows, so closing the score screen loses nothing.
-  const std::string store_error = store_run(*db, result.attempt_id, result.run, world,
-                                            options.record, &result.stored_as);
+  const std::string store_error =
+      store_run(*db, result.attempt_id, result.run, world, options.record,
+                options.store_patience_s, &result.stored_as, &result.unsaved_file);
+  const std::string kept =
+      result.unsaved_file.empty()
+          ? std::string()
+          : "; the result is kept in " + result.unsaved_file +
+                " and will be stored at the next start of acdr on this record";
   if (view && result.run.end != AttemptEnd::kStopped)
     view->show_score(result.run,
                      store_error.empty()
                          ? "Stored as attempt " + std::to_string(result.attempt_id) + " (" +
                                result.stored_as + ")"
-                         : "Could not store the attempt: " + store_error);
+                         : "Could not store the attempt: " + store_error + kept);
   if (!store_error.empty()) {
-    refuse(result, store_error);
+    // The attempt ran: its result is shown, and the exit says the record is not written.
+    refuse(result, "the record of attempt " + std::to_string(result.attempt_id) +
+                       " could not be written: " + store_error + kept,
+           SessionEnd::kRecordNotWritten);
     return result;
   }
   result.end = result.run.end == AttemptEnd::kNumericalFailure ? SessionEnd::kNumericalFailure

@@ -44,6 +44,10 @@ struct SessionOptions {
   /// replay writes it on its stepping thread; a live attempt (window, bridge) on a writer
   /// thread of its own, so the physics loop never waits for it.
   double checkpoint_every_s = 5.0;
+  /// When the final record cannot be written (the database locked by another program, the
+  /// disk full), keep trying for this long (s) before keeping the result in a side file next
+  /// to the database (db/outcome_side_file.hpp), stored there at the next start.
+  double store_patience_s = 10.0;
   /// No progress notes (waiting for the bridge); warnings still come.
   bool quiet = false;
 };
@@ -55,6 +59,9 @@ enum class SessionEnd {
   kAbandoned,         ///< stopped before its end by the trainee; stored as aborted
   kBadInput,          ///< scenario, input, record, bridge, window or store refused (`error`)
   kLocked,            ///< the module is locked for this trainee (`error` says why)
+  /// The attempt ran to its end but its record could not be written (`error` says why); the
+  /// result waits in `unsaved_file` (when that could be written) for the next start.
+  kRecordNotWritten,
 };
 
 /// How a live device drove the attempt: the haptic loop's achieved rate and the link's figures
@@ -84,7 +91,8 @@ struct SessionResult {
   AttemptRun run;
   std::int64_t attempt_id = 0;
   std::string db_path;
-  std::string stored_as;  ///< "completed" or "aborted"
+  std::string stored_as;  ///< "completed", "aborted", or "not written" (kRecordNotWritten)
+  std::string unsaved_file;  ///< kRecordNotWritten: the side file keeping the result
   std::optional<HapticsReport> haptics;         ///< a live attempt (window, bridge)
   std::optional<CheckpointReport> checkpoints;  ///< a live attempt's checkpoint writer
 

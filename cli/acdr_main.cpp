@@ -51,6 +51,11 @@ int main(int argc, char** argv) {
                       "killed run keeps it (default 5; 0: never); live runs write it on a "
                       "thread of their own")
       ->check(CLI::NonNegativeNumber);
+  run_cmd->add_option("--store-wait", run.store_patience_s,
+                      "Seconds to keep trying when the record cannot be written at the end "
+                      "(locked by another program, disk full) before keeping the result in "
+                      "a side file next to the database (default 10)")
+      ->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("--realtime", run.realtime,
                     "Ask for real-time priority for the haptic loop (needs the privilege)");
   run_cmd->add_option("--screenshot", run.screenshot,
@@ -96,6 +101,10 @@ int main(int argc, char** argv) {
   sim_cmd->add_option("--forces-csv", sim.forces_csv, "Log the forces received to a CSV file");
   sim_cmd->add_option("--connect-timeout", sim.bridge.connect_timeout_s,
                       "Seconds to wait for the simulator to answer (default 30)");
+  sim_cmd->add_option("--peer-timeout", sim.bridge.peer_timeout_s,
+                      "Seconds without a force from the simulator, once playing, after which "
+                      "it counts as gone (default 5; exit code 1)")
+      ->check(CLI::PositiveNumber);
   sim_cmd->add_option("--drop-every", sim.bridge.drop_every,
                       "Fault: withhold every n-th pose packet");
   sim_cmd->add_option("--silence-at", sim.bridge.silence_at_s,

@@ -4,6 +4,7 @@
 
 #include <ostream>
 
+#include "db/outcome_side_file.hpp"
 #include "ui/dashboard_model.hpp"
 #include "ui/dashboard_window.hpp"
 #include "ui/display.hpp"
@@ -52,6 +53,10 @@ int run_dashboard(const DashboardOptions& options, std::ostream& out, std::ostre
     err << db.error().message << "\n";
     return 1;
   }
+  // Finished attempts whose record could not be written are completed from their side files
+  // (that marks nothing: it stores what their own program could not).
+  for (const std::string& line : store_unsaved_outcomes(db.value()).notes)
+    err << "note: " << line << "\n";
   auto model = load_dashboard(db.value());
   if (!model) {
     err << model.error().message << "\n";

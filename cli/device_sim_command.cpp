@@ -62,6 +62,10 @@ int run_device_sim(const DeviceSimOptions& options, std::ostream& out, std::ostr
   if (options.json) {
     nlohmann::json j;
     j["connected"] = r.connected;
+    j["peer_lost"] = r.peer_lost;
+    j["last_force_at_s"] = r.last_force_at_s;
+    j["session"] = r.session;
+    j["packets_foreign"] = r.packets_foreign;
     j["poses_sent"] = r.poses_sent;
     j["poses_dropped"] = r.poses_dropped;
     j["forces_received"] = r.forces_received;
@@ -89,6 +93,15 @@ int run_device_sim(const DeviceSimOptions& options, std::ostream& out, std::ostr
                                        .c_str()
                                  : "");
     out << line;
+  }
+  if (r.peer_lost) {
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "device-sim: the simulator stopped answering: no force for %g s since "
+                  "trajectory time %.3f s (acdr run gone?)\n",
+                  bridge.peer_timeout_s, r.last_force_at_s);
+    err << line;
+    return 1;
   }
   return 0;
 }

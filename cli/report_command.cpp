@@ -1,6 +1,9 @@
 // `acdr report`: see report_command.hpp.
 #include "cli/report_command.hpp"
 
+#include <string>
+#include <vector>
+
 #include "db/attempt_store.hpp"
 #include "db/database.hpp"
 #include "db/report.hpp"
@@ -17,7 +20,9 @@ int run_report(const ReportOptions& options, std::ostream& out, std::ostream& er
   const std::string path = options.db_path.empty() ? default_database_path() : options.db_path;
   OpenOptions open_options;
   open_options.create = false;  // a report never starts an empty record
-  DbResult<Database> db = open_store(path, open_options);
+  std::vector<std::string> notes;  // results of earlier attempts stored from side files
+  DbResult<Database> db = open_store(path, open_options, &notes);
+  for (const std::string& line : notes) err << "note: " << line << '\n';
   if (!db) {
     err << "acdr report: " << db.error().message << '\n';
     return 1;

@@ -7,6 +7,8 @@
 #include <map>
 #include <memory>
 #include <ostream>
+#include <string>
+#include <vector>
 
 #include "assessment/metrics.hpp"
 #include "assessment/recording.hpp"
@@ -21,7 +23,9 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
   const std::string db_path = options.db.empty() ? default_database_path() : options.db;
   OpenOptions open;
   open.create = false;
-  auto db = open_store(db_path, open);
+  std::vector<std::string> notes;  // results of earlier attempts stored from side files
+  auto db = open_store(db_path, open, &notes);
+  for (const std::string& line : notes) err << "note: " << line << "\n";
   if (!db) {
     err << db.error().message << "\n";
     return 2;

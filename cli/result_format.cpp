@@ -72,6 +72,8 @@ nlohmann::json haptics_json(const HapticsReport& h, const AttemptRun& run) {
                  {"packets_received", h.link.packets_received},
                  {"packets_late", h.link.packets_late},
                  {"packets_malformed", h.link.packets_malformed},
+                 {"packets_foreign", h.link.packets_foreign},
+                 {"last_foreign", h.link.last_foreign},
                  {"forces_sent", h.link.forces_sent},
                  {"send_errors", h.link.send_errors},
                  {"silences", h.link.silences},
@@ -139,6 +141,7 @@ nlohmann::json result_json(const SessionResult& result, const std::string& png_p
   j["stored_as"] = result.stored_as;
   j["attempt_id"] = result.attempt_id;
   j["db"] = result.db_path;
+  if (!result.unsaved_file.empty()) j["unsaved_file"] = result.unsaved_file;
   if (!png_path.empty()) j["png"] = png_path;
   if (result.checkpoints) {
     // What the checkpoints cost: on the writer thread per checkpoint, and on the physics
@@ -249,11 +252,12 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
     if (result.haptics->has_link) {
       const UdpDeviceStats& l = result.haptics->link;
       std::snprintf(line, sizeof line,
-                    "  bridge %s: %lld packets, %lld lost, %lld malformed, max force sent "
-                    "%.3f N\n",
+                    "  bridge %s: %lld packets, %lld lost, %lld malformed, %lld from other "
+                    "senders (ignored), max force sent %.3f N\n",
                     l.bridge.c_str(), static_cast<long long>(l.packets_received),
                     static_cast<long long>(l.packets_lost),
-                    static_cast<long long>(l.packets_malformed), l.max_force_sent_N);
+                    static_cast<long long>(l.packets_malformed),
+                    static_cast<long long>(l.packets_foreign), l.max_force_sent_N);
       s += line;
     }
   }
@@ -261,6 +265,8 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
                 static_cast<long long>(result.attempt_id), result.stored_as.c_str(),
                 result.db_path.c_str());
   s += line;
+  if (!result.unsaved_file.empty())
+    s += "  result kept in " + result.unsaved_file + " until the record can be written\n";
   if (!png_path.empty()) s += "  picture of the final frame: " + png_path + "\n";
   if (result.checkpoints) {
     const LiveCheckpointStats& k = result.checkpoints->stats;

@@ -47,6 +47,9 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   else
     out << result_summary(result, options.png);
   switch (result.end) {
+    case SessionEnd::kRecordNotWritten:
+      err << result.error << "\n";
+      return 5;
     case SessionEnd::kNumericalFailure: return 1;
     case SessionEnd::kAbandoned: return 3;
     default: return 0;

@@ -1,9 +1,15 @@
 // Attempt lifecycle and reading attempts back: see attempt_store.hpp.
 #include "db/attempt_store.hpp"
 
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 
+#include "db/outcome_side_file.hpp"
 #include "db/recording_codec.hpp"
 #include "db/utc_time.hpp"
 #include "db/uuid.hpp"
@@ -359,11 +365,17 @@ DbStatus read_details(Database& db, AttemptRecord& a, const AttemptDetail& detai
 
 }  // namespace
 
-DbResult<Database> open_store(const std::string& path, const OpenOptions& options) {
+DbResult<Database> open_store(const std::string& path, const OpenOptions& options,
+                              std::vector<std::string>* notes) {
   DbResult<Database> db = Database::open(path, options);
   if (!db) return db;
   if (!options.read_only) {
-    DbResult<std::vector<std::int64_t>> aborted = mark_interrupted_attempts(db.value());
+    // Finished attempts first: their side files complete them, so they are not taken for
+    // interrupted ones below.
+    UnsavedReplay replay = store_unsaved_outcomes(db.value());
+    if (notes) notes->insert(notes->end(), replay.notes.begin(), replay.notes.end());
+    DbResult<std::vector<std::int64_t>> aborted =
+        mark_interrupted_attempts(db.value(), replay.still_pending);
     if (!aborted) return aborted.error();
   }
   return db;
@@ -564,6 +576,26 @@ DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutc
   return tx->commit();
 }
 
+DbStatus finish_attempt_patiently(Database& db, std::int64_t attempt_id,
+                                  const AttemptOutcome& outcome, double patience_s) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration<double>(std::max(0.0, patience_s));
+  const int usual_timeout_ms = db.busy_timeout_ms();
+  for (;;) {
+    // Each try waits (SQLite's busy handler) at most for what is left of the patience.
+    const double left_s = std::chrono::duration<double>(deadline - Clock::now()).count();
+    db.set_busy_timeout_ms(static_cast<int>(std::clamp(left_s * 1000.0, 0.0,
+                                                       static_cast<double>(usual_timeout_ms))));
+    DbStatus stored = finish_attempt(db, attempt_id, outcome);
+    db.set_busy_timeout_ms(usual_timeout_ms);
+    const int primary = stored ? 0 : (stored.error().sqlite_code & 0xff);
+    const bool worth_retrying =
+        primary == SQLITE_BUSY || primary == SQLITE_LOCKED || primary == SQLITE_FULL;
+    if (stored || !worth_retrying || Clock::now() >= deadline) return stored;
+    std::this_thread::sleep_for(std::chrono::milliseconds(primary == SQLITE_FULL ? 500 : 50));
+  }
+}
+
 DbStatus abort_attempt(Database& db, std::int64_t attempt_id, const std::string& reason) {
   DbResult<Transaction> tx = Transaction::begin(db);
   if (!tx) return tx.error();
@@ -578,7 +610,8 @@ DbStatus abort_attempt(Database& db, std::int64_t attempt_id, const std::string&
   return tx->commit();
 }
 
-DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(Database& db) {
+DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(
+    Database& db, const std::vector<std::int64_t>& spared) {
   struct Running {
     std::int64_t id;
     WriterIdentity writer;
@@ -607,7 +640,8 @@ DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(Database& db) {
   for (const Running& r : running) {
     const bool is_self = r.writer.pid == self.pid && r.writer.host == self.host &&
                          r.writer.start_ticks == self.start_ticks;
-    if (!is_self && writer_state(r.writer) == WriterState::kGone) gone.push_back(r);
+    const bool is_spared = std::find(spared.begin(), spared.end(), r.id) != spared.end();
+    if (!is_self && !is_spared && writer_state(r.writer) == WriterState::kGone) gone.push_back(r);
   }
   std::vector<std::int64_t> aborted;
   if (gone.empty()) return aborted;

@@ -20,9 +20,13 @@
 
 namespace acdr {
 
-/// Opens the record for use by a program: Database::open, then mark_interrupted_attempts, so an
-/// attempt left `running` by a killed run shows as `aborted` from here on.
-DbResult<Database> open_store(const std::string& path, const OpenOptions& options = {});
+/// Opens the record for use by a program: Database::open; then (unless read-only) stores the
+/// outcomes of finished attempts that could not be written when they ended
+/// (outcome_side_file.hpp: their side files), and mark_interrupted_attempts, so an attempt
+/// left `running` by a killed run shows as `aborted` from here on (one whose side file is
+/// still waiting is left running). `notes`, when given, receives one line per side file.
+DbResult<Database> open_store(const std::string& path, const OpenOptions& options = {},
+                              std::vector<std::string>* notes = nullptr);
 
 /// Inserts the attempt as `running` and commits at once; returns its id. A trainee id that is
 /// not registered yet is registered (empty display name). The module must be registered. The
@@ -53,12 +57,20 @@ DbStatus append_checkpoint(Database& db, std::int64_t attempt_id,
 /// A recording given here replaces any checkpointed pieces.
 DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome);
 
+/// finish_attempt, waiting for another connection's lock and trying again while the database
+/// is busy or locked (or full: space may come back) for up to `patience_s` in all. Other
+/// errors are returned at once.
+DbStatus finish_attempt_patiently(Database& db, std::int64_t attempt_id,
+                                  const AttemptOutcome& outcome, double patience_s);
+
 /// Ends a running attempt as `aborted` on purpose (the trainee quit), keeping what was
 /// checkpointed; `reason` is stored.
 DbStatus abort_attempt(Database& db, std::int64_t attempt_id, const std::string& reason);
 
-/// Applies the abort rule above to every `running` attempt; returns the ids it aborted.
-DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(Database& db);
+/// Applies the abort rule above to every `running` attempt except those in `spared` (attempts
+/// whose outcome waits in a side file); returns the ids it aborted.
+DbResult<std::vector<std::int64_t>> mark_interrupted_attempts(
+    Database& db, const std::vector<std::int64_t>& spared = {});
 
 /// Replaces the metrics and score of a completed attempt (re-scoring with a newer rubric), in
 /// one transaction. Status, times, events and recording are kept.

@@ -46,6 +46,24 @@ DbResult<Database> Database::open(const std::string& path, const OpenOptions& op
     }
   }
 
+  // Who the file belongs to is decided on a read-only connection first: switching to WAL (or
+  // even rolling back another program's hot journal) would change a file we then refuse.
+  std::error_code exists_ec;
+  if (!in_memory && fs::exists(path, exists_ec)) {
+    sqlite3* ro = nullptr;
+    const int ro_rc = sqlite3_open_v2(path.c_str(), &ro, SQLITE_OPEN_READONLY, nullptr);
+    if (ro_rc != SQLITE_OK) {
+      DbError err = open_error(path, "cannot open the record database", ro, ro_rc);
+      sqlite3_close_v2(ro);
+      return err;
+    }
+    Database probe(ro, path);
+    sqlite3_extended_result_codes(ro, 1);
+    probe.set_busy_timeout_ms(options.busy_timeout_ms);
+    if (DbStatus s = check_record_identity(probe, options.create && !options.read_only); !s)
+      return s.error();
+  }
+
   int flags = options.read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE;
   if (options.create && !options.read_only) flags |= SQLITE_OPEN_CREATE;
   sqlite3* raw = nullptr;
@@ -60,7 +78,7 @@ DbResult<Database> Database::open(const std::string& path, const OpenOptions& op
 
   // Wait for another process's lock instead of failing at once: a dashboard reads while an
   // attempt writes, and the attempt's commits are short.
-  sqlite3_busy_timeout(raw, options.busy_timeout_ms);
+  db.set_busy_timeout_ms(options.busy_timeout_ms);
 
   // Foreign keys are off by default in SQLite for backward compatibility; the record relies on
   // them (metrics cannot outlive their attempt).
@@ -87,13 +105,16 @@ DbResult<Database> Database::open(const std::string& path, const OpenOptions& op
 }
 
 Database::Database(Database&& other) noexcept
-    : db_(std::exchange(other.db_, nullptr)), path_(std::move(other.path_)) {}
+    : db_(std::exchange(other.db_, nullptr)),
+      path_(std::move(other.path_)),
+      busy_timeout_ms_(other.busy_timeout_ms_) {}
 
 Database& Database::operator=(Database&& other) noexcept {
   if (this != &other) {
     sqlite3_close_v2(db_);
     db_ = std::exchange(other.db_, nullptr);
     path_ = std::move(other.path_);
+    busy_timeout_ms_ = other.busy_timeout_ms_;
   }
   return *this;
 }
@@ -152,6 +173,11 @@ DbResult<std::int64_t> Database::pragma_int(std::string_view name) {
   if (!row) return row.error();
   if (!row.value()) return DbError{path_ + ": PRAGMA " + std::string(name) + " gave no value", 0};
   return stmt->column_int64(0);
+}
+
+void Database::set_busy_timeout_ms(int ms) {
+  busy_timeout_ms_ = ms;
+  sqlite3_busy_timeout(db_, ms);
 }
 
 std::int64_t Database::last_insert_rowid() const { return sqlite3_last_insert_rowid(db_); }

@@ -16,8 +16,9 @@ namespace acdr {
 
 /// How to open the record file.
 struct OpenOptions {
-  /// Create the file (and run every migration) when it does not exist. false: a missing file
-  /// is an error, so a typo in --db does not silently start an empty record.
+  /// Create the file (and run every migration) when it does not exist or is empty (0 bytes,
+  /// or SQLite without tables). false: a missing or empty file is an error, left unchanged, so
+  /// a typo in --db, or a command that only reads, does not silently start an empty record.
   bool create = true;
   /// Open read-only: no migration, no WAL switch; the schema must already be current.
   bool read_only = false;
@@ -49,6 +50,11 @@ class Database {
   /// Reads an integer pragma such as "user_version" (constant names only).
   DbResult<std::int64_t> pragma_int(std::string_view name);
 
+  /// How long a statement waits for another connection's lock (OpenOptions::busy_timeout_ms
+  /// until changed).
+  int busy_timeout_ms() const { return busy_timeout_ms_; }
+  void set_busy_timeout_ms(int ms);
+
   std::int64_t last_insert_rowid() const;
   /// Rows changed by the last INSERT/UPDATE/DELETE on this connection.
   int changes() const;
@@ -65,6 +71,7 @@ class Database {
 
   sqlite3* db_ = nullptr;
   std::string path_;
+  int busy_timeout_ms_ = 0;
 };
 
 /// A transaction that rolls back unless committed. Inside another transaction it becomes a

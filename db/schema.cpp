@@ -231,7 +231,7 @@ DbStatus refuse_unknown(const Database& db, const FileStamp& stamp) {
   if (stamp.application_id != 0 && stamp.application_id != kApplicationId) {
     return DbError{db.path() + ": not an ACDR record (PRAGMA application_id is " +
                        std::to_string(stamp.application_id) + ", expected " +
-                       std::to_string(kApplicationId) + "); refusing to change it",
+                       std::to_string(kApplicationId) + "); refusing to change it. The file was not changed.",
                    0};
   }
   if (stamp.user_version < 0) {
@@ -240,6 +240,23 @@ DbStatus refuse_unknown(const Database& db, const FileStamp& stamp) {
                    0};
   }
   return {};
+}
+
+// Tables, views, indexes and triggers other than SQLite's own.
+DbResult<std::int64_t> count_own_tables(Database& db) {
+  DbResult<Statement> count = db.prepare(
+      "SELECT count(*) FROM sqlite_schema WHERE name NOT LIKE 'sqlite\\_%' ESCAPE '\\'");
+  if (!count) return count.error();
+  DbResult<bool> row = count->step();
+  if (!row) return row.error();
+  return count->column_int64(0);
+}
+
+DbError not_a_record(const Database& db) {
+  return DbError{db.path() +
+                     ": not an ACDR record (it has tables but no ACDR schema version); "
+                     "refusing to change it. The file was not changed.",
+                 0};
 }
 
 }  // namespace
@@ -255,6 +272,24 @@ DbStatus check_schema_current(Database& db) {
                        std::to_string(stamp->user_version) + ", expected " +
                        std::to_string(kSchemaVersion) +
                        "; open it once read-write to upgrade it",
+                   0};
+  }
+  return {};
+}
+
+DbStatus check_record_identity(Database& db, bool may_initialise) {
+  DbResult<FileStamp> stamp = read_stamp(db);
+  if (!stamp) return stamp.error();
+  if (DbStatus s = refuse_unknown(db, stamp.value()); !s) return s;
+  if (stamp->user_version != 0) return {};  // an ACDR record; migrated if older
+  DbResult<std::int64_t> tables = count_own_tables(db);
+  if (!tables) return tables.error();
+  if (tables.value() != 0) return not_a_record(db);
+  if (!may_initialise) {
+    return DbError{db.path() +
+                       ": an empty file, not an ACDR record yet; a command that only reads "
+                       "does not start a record (`acdr run --db " +
+                       db.path() + " ...` does). The file was not changed.",
                    0};
   }
   return {};
@@ -277,17 +312,9 @@ DbStatus migrate_schema(Database& db) {
   if (stamp->user_version == 0) {
     // Version 0 is a new file only if it is empty; tables without our stamp belong to someone
     // else.
-    DbResult<Statement> count = db.prepare(
-        "SELECT count(*) FROM sqlite_schema WHERE name NOT LIKE 'sqlite\\_%' ESCAPE '\\'");
-    if (!count) return count.error();
-    DbResult<bool> row = count->step();
-    if (!row) return row.error();
-    if (count->column_int64(0) != 0) {
-      return DbError{db.path() +
-                         ": not an ACDR record (it has tables but no ACDR schema version); "
-                         "refusing to change it",
-                     0};
-    }
+    DbResult<std::int64_t> tables = count_own_tables(db);
+    if (!tables) return tables.error();
+    if (tables.value() != 0) return not_a_record(db);
   }
 
   for (const Migration& m : kMigrations) {

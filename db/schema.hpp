@@ -37,4 +37,12 @@ DbStatus migrate_schema(Database& db);
 /// opens).
 DbStatus check_schema_current(Database& db);
 
+/// Decides, without writing, whether the file behind `db` (a read-only connection) may be
+/// opened as the record: an ACDR record at a version this program knows, or, when
+/// `may_initialise`, an SQLite file with no tables and no stamp (a new record). Refuses a file
+/// with another application id, a newer version, tables of its own, or (when not
+/// `may_initialise`) nothing in it yet. Database::open calls it before any pragma that writes,
+/// so a refused file is left byte for byte as it was.
+DbStatus check_record_identity(Database& db, bool may_initialise);
+
 }  // namespace acdr

@@ -52,7 +52,7 @@ struct Reader {
   }
 };
 
-bool known_type(std::uint8_t t) { return t >= 1 && t <= 4; }
+bool known_type(std::uint8_t t) { return t >= 1 && t <= 6; }
 
 }  // namespace
 
@@ -62,6 +62,8 @@ std::size_t message_size(MessageType type) {
     case MessageType::kForce: return kForceSize;
     case MessageType::kEndOfAttempt:
     case MessageType::kAttemptOver: return kEndSize;
+    case MessageType::kHello:
+    case MessageType::kWelcome: return kHelloSize;
   }
   return 0;
 }
@@ -70,13 +72,13 @@ std::size_t encode(const Message& m, std::span<std::uint8_t> out) {
   const std::size_t size = message_size(m.type);
   if (size == 0 || out.size() < size) return 0;
   Writer w{out.data()};
-  // Header: magic, version, type, flags (0), sequence, reserved (0), timestamp.
+  // Header: magic, version, type, flags (0), sequence, session, timestamp.
   for (std::uint8_t b : kMagic) w.u8(b);
   w.u16(kVersion);
   w.u8(static_cast<std::uint8_t>(m.type));
   w.u8(0);
   w.u32(m.sequence);
-  w.u32(0);
+  w.u32(m.session);
   w.f64(m.timestamp_s);
   switch (m.type) {
     case MessageType::kPose:
@@ -96,6 +98,11 @@ std::size_t encode(const Message& m, std::span<std::uint8_t> out) {
     case MessageType::kEndOfAttempt:
     case MessageType::kAttemptOver:
       w.u32(static_cast<std::uint32_t>(m.reason));
+      w.u32(0);
+      break;
+    case MessageType::kHello:
+    case MessageType::kWelcome:
+      w.u32(m.nonce);
       w.u32(0);
       break;
   }
@@ -134,8 +141,9 @@ DecodeError decode(std::span<const std::uint8_t> bytes, Message& out, std::strin
   const std::uint8_t type = r.u8();
   if (!known_type(type))
     return fail(DecodeError::kUnknownType,
-                "got type " + std::to_string(type) + ", expected 1 (pose), 2 (force), "
-                                                     "3 (end of attempt) or 4 (attempt over)");
+                "got type " + std::to_string(type) +
+                    ", expected 1 (pose), 2 (force), 3 (end of attempt), 4 (attempt over), "
+                    "5 (hello) or 6 (welcome)");
   out.type = static_cast<MessageType>(type);
   const std::size_t expected = message_size(out.type);
   if (bytes.size() != expected)
@@ -144,7 +152,7 @@ DecodeError decode(std::span<const std::uint8_t> bytes, Message& out, std::strin
                                            std::to_string(bytes.size()));
   r.u8();  // flags: reserved
   out.sequence = r.u32();
-  r.u32();  // reserved
+  out.session = r.u32();
   out.timestamp_s = r.f64();
   switch (out.type) {
     case MessageType::kPose: {
@@ -162,6 +170,10 @@ DecodeError decode(std::span<const std::uint8_t> bytes, Message& out, std::strin
     case MessageType::kEndOfAttempt:
     case MessageType::kAttemptOver:
       out.reason = static_cast<EndReason>(r.u32());
+      break;
+    case MessageType::kHello:
+    case MessageType::kWelcome:
+      out.nonce = r.u32();
       break;
   }
   return DecodeError::kNone;

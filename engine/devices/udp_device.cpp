@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstring>
+#include <random>
 
 namespace acdr {
 
@@ -24,13 +25,18 @@ std::unique_ptr<UdpDevice> UdpDevice::open(const UdpDeviceOptions& options, std:
   if (!d->socket_) return nullptr;
   d->opened_ = Clock::now();
   d->last_packet_ = d->opened_;
+  // The session number: from the system's entropy source, so another local program cannot
+  // predict it; drawn here, not on the haptic thread.
+  std::random_device entropy;
+  while (d->session_ == 0) d->session_ = entropy();
   return d;
 }
 
 bool UdpDevice::drain(Clock::time_point now) {
   std::array<std::uint8_t, bridge::kMaxMessageSize + 1> buffer;
   bool fresh = false;
-  std::int64_t received = 0, lost = 0, late = 0, malformed = 0;
+  std::int64_t received = 0, lost = 0, late = 0, malformed = 0, foreign = 0;
+  std::string foreign_sender;
   bool end = false;
   std::string malformed_detail;
   for (;;) {
@@ -51,9 +57,29 @@ bool UdpDevice::drain(Clock::time_point now) {
                                               : detail;
       continue;
     }
+    if (m.type == bridge::MessageType::kHello) {
+      // The first hello opens the session; the same bridge's hello again (our welcome was
+      // lost) is answered again; anyone else's is not.
+      if (!bridge_.valid) {
+        bridge_ = from;
+        bridge_nonce_ = m.nonce;
+      }
+      if (bridge_.same_as(from) && m.nonce == bridge_nonce_ && !finished_) {
+        welcome();
+      } else {
+        ++foreign;
+        foreign_sender = from.to_string();
+      }
+      continue;
+    }
+    const bool from_bridge = bridge_.same_as(from) && m.session == session_;
+    if ((m.type == bridge::MessageType::kPose || m.type == bridge::MessageType::kEndOfAttempt) &&
+        !from_bridge) {
+      ++foreign;
+      foreign_sender = from.to_string();
+      continue;
+    }
     if (m.type == bridge::MessageType::kPose) {
-      // The newest sender is the bridge (one bridge at a time; a restarted bridge takes over).
-      bridge_ = from;
       ++received;
       last_packet_ = now;
       if (have_pose_) {
@@ -74,7 +100,6 @@ bool UdpDevice::drain(Clock::time_point now) {
       // already queued behind it.
       if (!pose_.position.allFinite() || !pose_.orientation.coeffs().allFinite()) break;
     } else if (m.type == bridge::MessageType::kEndOfAttempt) {
-      bridge_ = from;
       ++received;
       last_packet_ = now;
       end = true;
@@ -84,13 +109,15 @@ bool UdpDevice::drain(Clock::time_point now) {
                          " is for the bridge, not the simulator";
     }
   }
-  if (received || malformed) {
+  if (received || malformed || foreign) {
     std::lock_guard lock(stats_mutex_);
     stats_.packets_received += received;
     stats_.packets_lost += lost;
     stats_.packets_late += late;
     stats_.packets_malformed += malformed;
+    stats_.packets_foreign += foreign;
     if (malformed) stats_.last_malformed = malformed_detail;
+    if (foreign) stats_.last_foreign = foreign_sender;
     if (end) stats_.end_of_attempt = true;
     if (have_pose_ && !stats_.connected) {
       stats_.connected = true;
@@ -149,7 +176,8 @@ bool UdpDevice::sample(double t_s, DeviceSample& out) {
   return true;
 }
 
-void UdpDevice::send(const bridge::Message& m) {
+void UdpDevice::send(bridge::Message m) {
+  m.session = session_;
   std::array<std::uint8_t, bridge::kMaxMessageSize> buffer;
   const std::size_t n = bridge::encode(m, buffer);
   const bool ok = socket_->send_to(bridge_, std::span<const std::uint8_t>(buffer.data(), n));
@@ -162,8 +190,17 @@ void UdpDevice::send(const bridge::Message& m) {
   }
 }
 
+void UdpDevice::welcome() {
+  bridge::Message m;
+  m.type = bridge::MessageType::kWelcome;
+  m.sequence = out_sequence_++;
+  m.timestamp_s = std::chrono::duration<double>(Clock::now() - opened_).count();
+  m.nonce = bridge_nonce_;
+  send(m);
+}
+
 void UdpDevice::render_force(const Vec3& force_N) {
-  if (!bridge_.valid || finished_) return;
+  if (!bridge_.valid || !have_pose_ || finished_) return;
   bridge::Message m;
   m.type = bridge::MessageType::kForce;
   m.sequence = out_sequence_++;

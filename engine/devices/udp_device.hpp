@@ -1,6 +1,10 @@
 // An input device on the UDP haptic bridge (engine/devices/udp_bridge_protocol.hpp): the simulator
-// binds a loopback port, takes the newest pose each step, answers each step with the force to
-// render, and watches the link:
+// binds a loopback port, welcomes the first bridge that says hello into a session of its own
+// (a random session number), takes the newest pose of that bridge each step, answers each step
+// with the force to render, and watches the link:
+//  - only the session's bridge (its address and port, and the session number in each message)
+//    is heard; anyone else's datagrams are counted (packets_foreign) and ignored, never
+//    answered;
 //  - sequence gaps are counted as lost packets, older or repeated packets are dropped;
 //  - no packet for `silence_limit_s` (default 50 ms): the sample is marked stale, so the World
 //    holds the instrument and zeroes the force (recorded as an input_lost event);
@@ -38,6 +42,9 @@ struct UdpDeviceStats {
   std::int64_t packets_lost = 0;       ///< missing sequence numbers (gaps)
   std::int64_t packets_late = 0;       ///< reordered or repeated poses, dropped
   std::int64_t packets_malformed = 0;  ///< datagrams that failed to decode, or wrong direction
+  /// Well-formed datagrams from anyone but the session's bridge (another address or port, or
+  /// not the session's number), ignored.
+  std::int64_t packets_foreign = 0;
   std::int64_t forces_sent = 0;
   std::int64_t send_errors = 0;
   std::int64_t silences = 0;           ///< times the silence limit passed (force zeroed)
@@ -48,6 +55,7 @@ struct UdpDeviceStats {
   bool disconnected = false;           ///< the disconnect timeout passed
   std::string bridge;                  ///< the bridge's address, "host:port"
   std::string last_malformed;          ///< what was wrong with the last malformed datagram
+  std::string last_foreign;            ///< who sent the last foreign datagram, "host:port"
 };
 
 class UdpDevice final : public InputDevice {
@@ -58,8 +66,9 @@ class UdpDevice final : public InputDevice {
   int port() const { return socket_->local_port(); }
   const UdpDeviceOptions& options() const { return options_; }
 
-  /// Blocks until the bridge's first pose arrives (true) or `timeout_s` passes (false). Call
-  /// before the attempt starts, so the attempt's clock starts with the device.
+  /// Blocks until the bridge's first pose arrives (true) or `timeout_s` passes (false), answering
+  /// its hello meanwhile. Call before the attempt starts, so the attempt's clock starts with
+  /// the device.
   bool wait_for_connection(double timeout_s);
 
   bool sample(double t_s, DeviceSample& out) override;
@@ -75,11 +84,14 @@ class UdpDevice final : public InputDevice {
   explicit UdpDevice(const UdpDeviceOptions& options) : options_(options) {}
   // Reads every waiting datagram; returns true if a newer pose arrived.
   bool drain(Clock::time_point now);
-  void send(const bridge::Message& m);
+  void send(bridge::Message m);
+  void welcome();
 
   UdpDeviceOptions options_;
   std::unique_ptr<UdpSocket> socket_;
-  UdpEndpoint bridge_;
+  UdpEndpoint bridge_;              ///< the session's bridge (invalid until a hello)
+  std::uint32_t session_ = 0;       ///< the session number, random, never 0
+  std::uint32_t bridge_nonce_ = 0;  ///< the nonce of the hello that opened the session
   Clock::time_point opened_;
   Clock::time_point last_packet_;
   Pose pose_;

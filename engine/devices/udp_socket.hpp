@@ -1,5 +1,5 @@
 // A small RAII wrapper over a POSIX UDP socket (IPv4), non-blocking, for the haptic bridge:
-// the simulator binds a port on loopback and answers whoever sent the last packet; a bridge
+// the simulator binds a port on loopback and answers the bridge that opened the session; a bridge
 // (or the virtual device) sends to that port. No allocation per packet.
 #pragma once
 
@@ -20,6 +20,11 @@ struct UdpEndpoint {
 
   /// "127.0.0.1:7000".
   std::string to_string() const;
+  /// The same address and port (both valid).
+  bool same_as(const UdpEndpoint& other) const {
+    return valid && other.valid && address.sin_port == other.address.sin_port &&
+           address.sin_addr.s_addr == other.address.sin_addr.s_addr;
+  }
 };
 
 /// `host` as a dotted IPv4 address ("127.0.0.1") or "localhost", and `port`.

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <thread>
 
 #include "engine/devices/udp_socket.hpp"
@@ -24,6 +25,7 @@ class Link {
 
   void send(bridge::Message m) {
     m.sequence = sequence_++;
+    m.session = result_.session;
     std::array<std::uint8_t, bridge::kMaxMessageSize> buffer;
     const std::size_t n = bridge::encode(m, buffer);
     if (socket_.send_to(simulator_, std::span<const std::uint8_t>(buffer.data(), n)) &&
@@ -36,18 +38,43 @@ class Link {
     ++result_.poses_dropped;
   }
 
-  void receive_all(double t_s) {
+  void hello(std::uint32_t nonce) {
+    bridge::Message m;
+    m.type = bridge::MessageType::kHello;
+    m.nonce = nonce;
+    send(m);
+  }
+
+  // Reads every waiting datagram. Before the session: only our simulator's welcome to our
+  // hello counts; after: only its messages of that session.
+  void receive_all(double t_s, std::uint32_t hello_nonce = 0) {
     std::array<std::uint8_t, bridge::kMaxMessageSize + 1> buffer;
     for (;;) {
-      const long n = socket_.receive(buffer, nullptr);
+      UdpEndpoint from;
+      const long n = socket_.receive(buffer, &from);
       if (n <= 0) return;
       bridge::Message m;
       if (static_cast<std::size_t>(n) > bridge::kMaxMessageSize ||
           bridge::decode(std::span<const std::uint8_t>(buffer.data(), static_cast<std::size_t>(n)),
                          m) != bridge::DecodeError::kNone)
         continue;
+      if (!from.same_as(simulator_)) {
+        ++result_.packets_foreign;
+        continue;
+      }
+      if (m.type == bridge::MessageType::kWelcome && result_.session == 0 &&
+          hello_nonce != 0 && m.nonce == hello_nonce && m.session != 0) {
+        result_.session = m.session;
+        continue;
+      }
+      if (result_.session == 0 || m.session != result_.session) {
+        if (m.type != bridge::MessageType::kWelcome) ++result_.packets_foreign;
+        continue;
+      }
       if (m.type == bridge::MessageType::kForce) {
         result_.connected = true;
+        result_.last_force_at_s = t_s;
+        last_force_ = Clock::now();
         if (result_.forces_received > 0) {
           const auto ahead = static_cast<std::int32_t>(m.sequence - last_force_sequence_);
           if (ahead > 1) result_.forces_lost += ahead - 1;
@@ -66,6 +93,12 @@ class Link {
     }
   }
 
+  // Seconds since the last force (since the session began, before the first).
+  double since_last_force() const {
+    return std::chrono::duration<double>(Clock::now() - last_force_).count();
+  }
+  void start_force_clock() { last_force_ = Clock::now(); }
+
  private:
   UdpSocket& socket_;
   UdpEndpoint simulator_;
@@ -73,6 +106,7 @@ class Link {
   VirtualBridgeResult& result_;
   std::uint32_t sequence_ = 0;
   std::uint32_t last_force_sequence_ = 0;
+  Clock::time_point last_force_ = Clock::now();
 };
 
 bridge::Message pose_message(const Pose& pose, double t_s) {
@@ -104,13 +138,20 @@ VirtualBridgeResult VirtualBridge::run(const std::atomic<bool>* stop) {
         (trajectory_.duration_s() + options_.linger_s + 1.0) * options_.rate_hz * 1.5));
   auto stopped = [&] { return stop && stop->load(std::memory_order_relaxed); };
 
-  // Connect: repeat the start pose until the simulator answers with a force.
+  // Connect: say hello until the simulator welcomes us into a session, then repeat the start
+  // pose until it answers with a force.
+  std::uint32_t nonce = 0;
+  std::random_device entropy;
+  while (nonce == 0) nonce = entropy();
   const Pose start = trajectory_.at(0.0);
   const auto give_up = Clock::now() + std::chrono::duration<double>(options_.connect_timeout_s);
   while (!result.connected && !stopped()) {
-    link.send(pose_message(start, 0.0));
+    if (result.session == 0)
+      link.hello(nonce);
+    else
+      link.send(pose_message(start, 0.0));
     socket->wait_readable(0.01);
-    link.receive_all(0.0);
+    link.receive_all(0.0, nonce);
     if (Clock::now() > give_up) {
       result.error = "device-sim: no answer from the simulator at " + simulator.to_string() +
                      " within " + std::to_string(options_.connect_timeout_s) + " s";
@@ -127,11 +168,18 @@ VirtualBridgeResult VirtualBridge::run(const std::atomic<bool>* stop) {
   const double duration = trajectory_.duration_s();
   const double dt = 1.0 / options_.rate_hz;
   std::int64_t tick = 0;
+  link.start_force_clock();
   loop.start([&]() {
     const double t = static_cast<double>(tick++) * dt;
     result.played_s = std::min(t, duration);
     link.receive_all(t);
     if (result.attempt_over || stopped()) return false;
+    if (link.since_last_force() > options_.peer_timeout_s) {
+      // The simulator is gone (killed, crashed): nobody renders our poses any more.
+      result.peer_lost = true;
+      result.connected = false;
+      return false;
+    }
     if (t > duration) {
       bridge::Message end;
       end.type = bridge::MessageType::kEndOfAttempt;
@@ -163,7 +211,8 @@ VirtualBridgeResult VirtualBridge::run(const std::atomic<bool>* stop) {
 
   // Linger for the simulator's attempt-over (and the last forces).
   const auto linger_end = Clock::now() + std::chrono::duration<double>(options_.linger_s);
-  while (!result.attempt_over && !stopped() && Clock::now() < linger_end) {
+  while (!result.peer_lost && !result.attempt_over && !stopped() &&
+         Clock::now() < linger_end) {
     socket->wait_readable(0.01);
     link.receive_all(result.played_s);
   }

@@ -21,9 +21,14 @@ struct VirtualBridgeOptions {
   std::string host = "127.0.0.1";  ///< the simulator's address
   int port = 0;                    ///< the simulator's port
   double rate_hz = 1000.0;         ///< pose packets per second
-  /// Before playing, the bridge repeats the start pose every 10 ms until the simulator
-  /// answers with a first force, for at most this long (s).
+  /// Before playing, the bridge says hello every 10 ms until the simulator welcomes it into a
+  /// session, then repeats the start pose every 10 ms until the first force, for at most this
+  /// long in all (s).
   double connect_timeout_s = 30.0;
+  /// While playing, no force packet from the simulator for this long (s) means it is gone (a
+  /// crashed or killed `acdr run`): the bridge stops and says so (VirtualBridgeResult::
+  /// peer_lost). The same 5 s as the simulator's own disconnect timeout.
+  double peer_timeout_s = 5.0;
   /// After end-of-attempt, how long to wait for the simulator's attempt-over (s).
   double linger_s = 1.0;
   bool log_forces = true;  ///< keep every force received (VirtualBridgeResult::forces)
@@ -50,7 +55,12 @@ struct ReceivedForce {
 };
 
 struct VirtualBridgeResult {
-  bool connected = false;            ///< the simulator answered
+  /// The simulator answered and was still answering at the end (false once peer_lost).
+  bool connected = false;
+  bool peer_lost = false;            ///< no force for peer_timeout_s while playing
+  double last_force_at_s = -1.0;     ///< trajectory time of the last force received (s)
+  std::uint32_t session = 0;         ///< the session number the simulator gave us
+  std::int64_t packets_foreign = 0;  ///< datagrams not from our simulator's session, ignored
   std::int64_t poses_sent = 0;
   std::int64_t poses_dropped = 0;    ///< withheld by fault injection (drop, silence)
   std::int64_t forces_received = 0;

@@ -1,7 +1,8 @@
 // Tests of cli/run_command.cpp driven through the UDP haptic bridge on loopback by the
 // virtual device (engine/devices/virtual_bridge.hpp), as `acdr run --input udp:PORT` with `acdr
 // device-sim`: the attempt completes and reports its haptics, its row exists before the first
-// packet, device faults are recorded, and a silent or absent device ends the attempt.
+// packet, device faults are recorded, and a silent or absent device ends the attempt,
+// and another local sender is ignored.
 //
 // The scene is the test box without material (tests/ui/data/empty_box.json), so that the
 // physics step is far below 1 ms and the 1 kHz loop is reachable on a loaded machine.
@@ -9,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <future>
@@ -49,9 +52,9 @@ UdpRun run_with_bridge(const std::string& db, VirtualBridgeOptions bridge,
                        double device_timeout_s = 5.0,
                        std::chrono::milliseconds bridge_delay = 0ms,
                        const std::string& scene = "empty_box.json",
-                       double checkpoint_every_s = 5.0) {
+                       double checkpoint_every_s = 5.0, int chosen_port = 0) {
   UdpRun r;
-  const int port = free_port();
+  const int port = chosen_port > 0 ? chosen_port : free_port();
   RunOptions options;
   options.scenario = kData + scene;
   options.checkpoint_every_s = checkpoint_every_s;
@@ -168,6 +171,57 @@ TEST(RunCommandUdp, DeviceFaultsAreRecordedAsEvents) {
   EXPECT_EQ(h["packets_lost"].get<std::int64_t>(), r.bridge.poses_dropped);
   EXPECT_GE(h["input_lost_events"].get<int>(), 1);
   EXPECT_LE(h["max_force_sent_N"].get<double>(), 3.3 + 1e-9);
+}
+
+// A second local program that floods the attempt's port mid-attempt with poses of higher
+// sequence numbers (far from the bridge's, so a take-over would show as a pose jump) and says
+// hello: it gets nothing back, the bridge keeps every force and its attempt, and the run
+// reports the ignored datagrams.
+TEST(RunCommandUdp, AnIntruderMidAttemptGetsNoForceAndChangesNothing) {
+  test::TempDir dir;
+  std::string error;
+  auto intruder = UdpSocket::bind("127.0.0.1", 0, &error);
+  ASSERT_TRUE(intruder) << error;
+  std::atomic<bool> stop{false};
+  std::atomic<int> port{0};
+  std::atomic<long> intruder_sent{0}, intruder_received{0};
+  std::thread flood([&] {
+    std::this_thread::sleep_for(1500ms);  // mid-attempt
+    std::array<std::uint8_t, bridge::kMaxMessageSize + 1> in;
+    for (std::uint32_t k = 0; !stop.load(); ++k) {
+      bridge::Message m;
+      m.type = k % 50 == 0 ? bridge::MessageType::kHello : bridge::MessageType::kPose;
+      m.sequence = 1000000 + k;
+      m.nonce = 77;
+      m.pose.position = Vec3(0.05, 0.05, 0.2);
+      std::array<std::uint8_t, bridge::kMaxMessageSize> out;
+      const std::size_t n = bridge::encode(m, out);
+      if (intruder->send_to(make_endpoint("127.0.0.1", port.load()),
+                            std::span<const std::uint8_t>(out.data(), n)))
+        ++intruder_sent;
+      while (intruder->receive(in, nullptr) > 0) ++intruder_received;
+      std::this_thread::sleep_for(1ms);
+    }
+  });
+  const int chosen = free_port();
+  port = chosen;
+  const UdpRun r = run_with_bridge(dir.file("r.sqlite"), {}, 5.0, 0ms, "empty_box.json", 5.0,
+                                   chosen);
+  stop = true;
+  flood.join();
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(intruder_sent.load(), 500);
+  EXPECT_EQ(intruder_received.load(), 0);
+  const auto& link = r.result["haptics"]["link"];
+  EXPECT_GT(link["packets_foreign"].get<std::int64_t>(), 500);
+  EXPECT_EQ(r.result["end"], "input ended");
+  EXPECT_NEAR(r.result["duration_s"].get<double>(), 3.0, 0.1);
+  EXPECT_EQ(r.result["haptics"]["packets_lost"], 0);
+  EXPECT_EQ(link["packets_late"], 0);
+  EXPECT_FALSE(has(event_kinds(r.result), "input_rejected"));  // no jump to the intruder's pose
+  EXPECT_TRUE(r.bridge.attempt_over);
+  EXPECT_GT(r.bridge.forces_received, 2500);
+  EXPECT_EQ(r.bridge.forces_lost, 0);
 }
 
 TEST(RunCommandUdp, ASilentDeviceEndsTheAttemptAsDisconnected) {

@@ -8,12 +8,16 @@
 #include <netinet/in.h>
 #include <signal.h>
 #include <sqlite3.h>
+#include <sys/mount.h>
 #include <sys/socket.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -210,6 +214,7 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
   ASSERT_GT(run, 0);
   const pid_t bridge = spawn({ACDR_EXE, "device-sim", "--port", std::to_string(port),
                               "--trajectory", trajectory, "--connect-timeout", "20",
+                              "--peer-timeout", "1",
                               "--nan-at", "0.15"},  // a rejected pose: an event to keep
                              true);
   ASSERT_GT(bridge, 0);
@@ -220,8 +225,23 @@ TEST(AcdrRunRecord, KilledLiveAttemptIsAbortedWithItsCheckpointsAndRescoresToThe
     ASSERT_EQ(kill(run, SIGKILL), 0);
     ASSERT_EQ(waitpid(run, &status, 0), run);
   }
-  kill(bridge, SIGKILL);  // our own child: the device has no simulator to talk to any more
-  waitpid(bridge, nullptr, 0);
+  // The device notices that its simulator is gone (no force for its 1 s peer timeout) and
+  // says so with exit code 1, instead of playing on as if connected.
+  int bridge_status = 0;
+  bool bridge_exited = false;
+  for (auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(15);
+       !bridge_exited && std::chrono::steady_clock::now() < give_up;
+       std::this_thread::sleep_for(std::chrono::milliseconds(20)))
+    bridge_exited = waitpid(bridge, &bridge_status, WNOHANG) == bridge;
+  if (!bridge_exited) {
+    kill(bridge, SIGKILL);  // our own child
+    waitpid(bridge, nullptr, 0);
+  }
+  EXPECT_TRUE(bridge_exited) << "device-sim played on after its simulator was killed";
+  if (bridge_exited) {
+    EXPECT_TRUE(WIFEXITED(bridge_status));
+    EXPECT_EQ(WEXITSTATUS(bridge_status), 1) << "device-sim should report the lost simulator";
+  }
   ASSERT_FALSE(exited) << "acdr run ended before it was killed (exit "
                        << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << ")";
   ASSERT_TRUE(WIFSIGNALED(status));
@@ -309,6 +329,257 @@ TEST(AcdrRunRecord, RescoringACompletedAttemptReproducesItsMetricsExactly) {
   const std::string out = run_program(std::string(ACDR_EXE) + " rescore --db '" + db_path + "'");
   EXPECT_NE(out.find("metrics identical"), std::string::npos) << out;
   EXPECT_NE(out.find("1 attempt(s) re-scored, 0 changed"), std::string::npos) << out;
+}
+
+// `acdr ARGS` with stdout and stderr kept: its exit code and both texts.
+struct Ran {
+  int code = -1;
+  std::string out, err;
+};
+Ran run_acdr(const test::TempDir& dir, const std::string& args,
+             const std::string& environment = "") {
+  const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
+  const int status = std::system(
+      (environment + ACDR_EXE + " " + args + " >'" + out + "' 2>'" + err + "'").c_str());
+  Ran r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_text(out);
+  r.err = read_text(err);
+  return r;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void raw_exec(const std::string& path, const char* sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(db, sql, nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(db);
+}
+
+// Another program's SQLite file given as --db is refused by every command before anything
+// writes to it: byte for byte unchanged, no WAL file, and the error says it was not changed.
+// An empty file is not turned into a record by a command that only reads; `acdr run` may.
+TEST(AcdrRunRecord, EveryCommandRefusesAForeignFileWithoutChangingIt) {
+  test::TempDir dir;
+  const std::string scene = write_scene(dir);
+  const std::string trajectory = std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/short_scoop.csv";
+  const std::string tables = dir.file("notes.db");
+  raw_exec(tables, "CREATE TABLE notes (x); INSERT INTO notes VALUES (1)");
+  const std::string stamped = dir.file("stamped.db");
+  raw_exec(stamped, "PRAGMA application_id = 1234; CREATE TABLE t (x)");
+  const std::string empty = dir.file("empty.db");
+  std::ofstream(empty).close();
+  for (const std::string& db : {tables, stamped, empty}) {
+    const std::string before = file_bytes(db);
+    const std::vector<std::string> commands = {
+        "report --db '" + db + "'",
+        "rescore --db '" + db + "'",
+        "rescore --dry-run --db '" + db + "'",
+        "dashboard --db '" + db + "' --screenshot '" + dir.file("d.png") + "'",
+        "run '" + scene + "' --headless --input 'replay:" + trajectory + "' --db '" + db + "'",
+    };
+    for (const std::string& command : commands) {
+      if (db == empty && command.rfind("run ", 0) == 0) continue;  // below
+      const Ran r = run_acdr(dir, command);
+      EXPECT_NE(r.code, 0) << command;
+      EXPECT_NE(r.err.find(db), std::string::npos) << command << "\n" << r.err;
+      EXPECT_NE(r.err.find("not changed"), std::string::npos) << command << "\n" << r.err;
+      EXPECT_EQ(file_bytes(db), before) << command;
+      EXPECT_FALSE(std::filesystem::exists(db + "-wal")) << command;
+      EXPECT_FALSE(std::filesystem::exists(dir.file("d.png"))) << command;
+    }
+  }
+  EXPECT_EQ(std::filesystem::file_size(empty), 0u);
+  // A run on an empty file starts a record there.
+  const Ran started = run_acdr(dir, "run '" + scene + "' --headless --input 'replay:" +
+                                        trajectory + "' --db '" + empty + "'");
+  EXPECT_EQ(started.code, 0) << started.err;
+  EXPECT_EQ(run_acdr(dir, "report --db '" + empty + "'").code, 0);
+}
+
+// Another program holds the record's write lock from before the attempt ends until after
+// `acdr run` gave up: the run shows its result, keeps it in a side file next to the database
+// and exits 5 ("record not written"), not 2. The next start (`acdr report`) stores it, says
+// so, and the attempt is completed with all its seconds, its score and its recording.
+TEST(AcdrRunRecord, AFinishedAttemptWhoseRecordIsLockedIsKeptAndStoredAtTheNextStart) {
+  test::TempDir dir;
+  const std::string db_path = dir.file("record.sqlite");
+  const std::string trajectory = dir.file("long.csv");
+  write_long_trajectory(std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/short_scoop.csv",
+                        trajectory, 3);  // 9 s
+  const std::string scene_path = write_scene(dir);
+  const std::string out_path = dir.file("run.json"), err_path = dir.file("run.err");
+
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (!freopen(out_path.c_str(), "w", stdout) || !freopen(err_path.c_str(), "w", stderr))
+      _exit(120);
+    execl(ACDR_EXE, ACDR_EXE, "run", scene_path.c_str(), "--input",
+          ("replay:" + trajectory).c_str(), "--headless", "--db", db_path.c_str(),
+          "--checkpoint-every", "0", "--store-wait", "1", "--json", "--trainee", "t-lock",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Once the attempt is begun (its row committed), take the write lock and keep it.
+  sqlite3* locker = nullptr;
+  bool locked = false;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  int status = 0;
+  bool exited = false;
+  while (!locked && std::chrono::steady_clock::now() < give_up) {
+    if (waitpid(child, &status, WNOHANG) == child) {
+      exited = true;
+      break;
+    }
+    if (std::filesystem::exists(db_path)) {
+      sqlite3* probe = nullptr;
+      int attempts = 0;
+      if (sqlite3_open_v2(db_path.c_str(), &probe, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+        sqlite3_stmt* s = nullptr;
+        if (sqlite3_prepare_v2(probe, "SELECT count(*) FROM attempts", -1, &s, nullptr) ==
+                SQLITE_OK &&
+            sqlite3_step(s) == SQLITE_ROW)
+          attempts = sqlite3_column_int(s, 0);
+        sqlite3_finalize(s);
+      }
+      sqlite3_close(probe);
+      if (attempts == 1) {
+        ASSERT_EQ(sqlite3_open(db_path.c_str(), &locker), SQLITE_OK);
+        sqlite3_busy_timeout(locker, 5000);
+        locked = sqlite3_exec(locker, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr) == SQLITE_OK;
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_FALSE(exited) << "acdr run ended before the lock was taken:\n" << read_text(err_path);
+  ASSERT_TRUE(locked);
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  sqlite3_exec(locker, "ROLLBACK", nullptr, nullptr, nullptr);
+  sqlite3_close(locker);
+
+  const std::string err = read_text(err_path);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 5) << err;
+  EXPECT_NE(err.find("could not be written"), std::string::npos) << err;
+  EXPECT_NE(err.find("database is locked"), std::string::npos) << err;
+  const nlohmann::json shown = nlohmann::json::parse(read_text(out_path));
+  EXPECT_EQ(shown["stored_as"], "not written");
+  const std::string side_file = shown["unsaved_file"].get<std::string>();
+  EXPECT_EQ(side_file, db_path + ".attempt-" + std::to_string(shown["attempt_id"].get<int>()) +
+                           ".unsaved");
+  EXPECT_TRUE(std::filesystem::exists(side_file));
+  const double duration = shown["duration_s"].get<double>();
+  EXPECT_GT(duration, 8.5);
+
+  // The next start stores it and says so.
+  const Ran report = run_acdr(dir, "report --db '" + db_path + "' --format json");
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_NE(report.err.find("now stored"), std::string::npos) << report.err;
+  EXPECT_FALSE(std::filesystem::exists(side_file));
+  const nlohmann::json stored = nlohmann::json::parse(report.out);
+  ASSERT_EQ(stored["attempts"].size(), 1u);
+  const nlohmann::json& a = stored["attempts"][0];
+  EXPECT_EQ(a["status"], "completed");
+  EXPECT_EQ(a["duration_s"].get<double>(), duration);
+  EXPECT_EQ(a["score"].get<double>(), shown["score"].get<double>());
+  EXPECT_EQ(a["passed"], shown["passed"]);
+  Database db = test::open_or_fail(db_path);
+  EXPECT_EQ(test::integrity_check(db), "ok");
+  const AttemptRecord record = test::the_only_attempt(db);
+  ASSERT_TRUE(record.recording.has_value());
+  EXPECT_TRUE(record.recording->complete);
+  std::string error;
+  const auto decoded = decode_recording(record.recording->bytes, &error);
+  ASSERT_TRUE(decoded) << error;
+  EXPECT_NEAR(decoded->frames.back().t_s, duration, 1e-9);
+  EXPECT_EQ(record.metrics.values, compute_metrics(*decoded).values);
+}
+
+// A small tmpfs mounted for one test (needs the privilege to mount; the test is skipped
+// without it), unmounted at the end.
+class TinyFileSystem {
+ public:
+  TinyFileSystem(const std::string& where, const char* size) : where_(where) {
+    std::filesystem::create_directories(where);
+    mounted_ = mount("acdr-test", where.c_str(), "tmpfs", 0, (std::string("size=") + size).c_str()) == 0;
+  }
+  ~TinyFileSystem() {
+    if (mounted_) umount2(where_.c_str(), MNT_DETACH);
+  }
+  bool mounted() const { return mounted_; }
+  // Fills it up to `leave` bytes free.
+  void fill(std::size_t leave) {
+    struct statvfs st {};
+    if (statvfs(where_.c_str(), &st) != 0) return;
+    const std::size_t free_bytes = static_cast<std::size_t>(st.f_bavail) * st.f_frsize;
+    std::ofstream filler(where_ + "/filler", std::ios::binary);
+    const std::string block(4096, '\0');
+    for (std::size_t n = 0; n + leave + block.size() <= free_bytes; n += block.size()) filler << block;
+  }
+  void empty() { std::filesystem::remove(where_ + "/filler"); }
+
+ private:
+  std::string where_;
+  bool mounted_ = false;
+};
+
+// The disk of the record fills up during an attempt: the run exits 5, the result goes to the
+// fallback directory (the full disk refuses the side file next to the database too), and once
+// space is back the next start stores it: the attempt is completed with all its seconds.
+TEST(AcdrRunRecord, AFullDiskKeepsTheResultInTheFallbackDirectory) {
+  test::TempDir dir, state;
+  TinyFileSystem disk(dir.file("disk"), "4m");
+  if (!disk.mounted()) GTEST_SKIP() << "cannot mount a tmpfs here (needs CAP_SYS_ADMIN)";
+  const std::string db_path = dir.file("disk/record.sqlite");
+  const std::string trajectory = dir.file("long.csv");
+  write_long_trajectory(std::string(ACDR_SOURCE_DIR) + "/tests/ui/data/short_scoop.csv",
+                        trajectory, 3);  // 9 s
+  const std::string scene_path = write_scene(dir);
+  const std::string out_path = dir.file("run.json"), err_path = dir.file("run.err");
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    setenv("XDG_STATE_HOME", state.path().c_str(), 1);
+    if (!freopen(out_path.c_str(), "w", stdout) || !freopen(err_path.c_str(), "w", stderr))
+      _exit(120);
+    execl(ACDR_EXE, ACDR_EXE, "run", scene_path.c_str(), "--input",
+          ("replay:" + trajectory).c_str(), "--headless", "--db", db_path.c_str(),
+          "--checkpoint-every", "2", "--store-wait", "1", "--json", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  const bool exited = exited_before_chunks(db_path, child, 1, &status);
+  ASSERT_FALSE(exited) << read_text(err_path);
+  disk.fill(200 * 1024);  // far less than the recording needs
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  const std::string err = read_text(err_path);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 5) << err;
+  EXPECT_NE(err.find("full"), std::string::npos) << err;
+  const nlohmann::json shown = nlohmann::json::parse(read_text(out_path));
+  const std::string side_file = shown["unsaved_file"].get<std::string>();
+  EXPECT_EQ(std::filesystem::path(side_file).parent_path(), state.path() / "acdr" / "unsaved");
+  EXPECT_TRUE(std::filesystem::exists(side_file));
+
+  // Space is back: the next start (with the same fallback directory) stores it.
+  disk.empty();
+  const Ran report = run_acdr(dir, "report --db '" + db_path + "' --format json",
+                              "XDG_STATE_HOME='" + state.path().string() + "' ");
+  ASSERT_EQ(report.code, 0) << report.err;
+  EXPECT_NE(report.err.find("now stored"), std::string::npos) << report.err;
+  EXPECT_FALSE(std::filesystem::exists(side_file));
+  const nlohmann::json stored = nlohmann::json::parse(report.out);
+  ASSERT_EQ(stored["attempts"].size(), 1u);
+  EXPECT_EQ(stored["attempts"][0]["status"], "completed");
+  EXPECT_EQ(stored["attempts"][0]["duration_s"].get<double>(), shown["duration_s"].get<double>());
+  EXPECT_EQ(stored["attempts"][0]["score"].get<double>(), shown["score"].get<double>());
 }
 
 }  // namespace

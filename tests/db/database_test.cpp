@@ -9,6 +9,8 @@
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "db/schema.hpp"
@@ -122,6 +124,61 @@ TEST(Database, RefusesAnotherProgramsDatabase) {
   DbResult<Database> b = Database::open(stamped);
   ASSERT_FALSE(b.ok());
   EXPECT_NE(b.error().message.find("1234"), std::string::npos) << b.error().message;
+}
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Refusing is decided on a read-only connection, before any pragma that writes: the header
+// (journal mode bytes 18-19, the change counter) and every page stay exactly as they were.
+TEST(Database, RefusedFilesAreLeftByteForByteUnchanged) {
+  TempDir dir;
+  const std::string tables = dir.file("notes.sqlite");
+  raw_exec(tables, "CREATE TABLE notes (x); INSERT INTO notes VALUES (1)");
+  const std::string stamped = dir.file("stamped.sqlite");
+  raw_exec(stamped, "PRAGMA application_id = 1234; CREATE TABLE t (x)");
+  const std::string newer = dir.file("newer.sqlite");
+  raw_exec(newer, "PRAGMA user_version = " + std::to_string(kSchemaVersion + 1));
+  for (const std::string& path : {tables, stamped, newer}) {
+    const std::string before = file_bytes(path);
+    ASSERT_FALSE(before.empty());
+    for (bool create : {true, false}) {
+      OpenOptions options;
+      options.create = create;
+      DbResult<Database> db = Database::open(path, options);
+      ASSERT_FALSE(db.ok()) << path;
+      EXPECT_NE(db.error().message.find("not changed"), std::string::npos)
+          << db.error().message;
+      EXPECT_EQ(file_bytes(path), before) << path << " (create " << create << ")";
+      EXPECT_FALSE(std::filesystem::exists(path + "-wal")) << path;
+    }
+  }
+}
+
+// A command that only reads (create = false) does not start a record in an empty file; one
+// that writes (create = true, `acdr run`) does.
+TEST(Database, AnEmptyFileIsInitialisedOnlyWhenCreating) {
+  TempDir dir;
+  const std::string path = dir.file("empty.sqlite");
+  { std::ofstream touch(path); }
+  OpenOptions reader;
+  reader.create = false;
+  DbResult<Database> refused = Database::open(path, reader);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("an empty file"), std::string::npos)
+      << refused.error().message;
+  EXPECT_EQ(std::filesystem::file_size(path), 0u);
+
+  {
+    DbResult<Database> created = Database::open(path);
+    ASSERT_TRUE(created.ok()) << created.error().message;
+    EXPECT_EQ(created->pragma_int("user_version").value(), kSchemaVersion);
+  }
+  EXPECT_TRUE(Database::open(path, reader).ok());
 }
 
 TEST(Database, ReadOnlyOpenNeedsACurrentRecord) {

@@ -17,6 +17,7 @@ Message pose_message() {
   Message m;
   m.type = MessageType::kPose;
   m.sequence = 0x01020304u;
+  m.session = 0xA1B2C3D4u;
   m.timestamp_s = 12.5;
   m.pose.position = Vec3(0.01, -0.02, 0.11);
   m.pose.orientation = Quat(Eigen::AngleAxisd(0.3, Vec3(1, 2, 3).normalized()));
@@ -44,13 +45,16 @@ TEST(BridgeProtocol, PoseRoundTripsWithTheDocumentedLayout) {
   const auto bytes = encoded(m);
   ASSERT_EQ(bytes.size(), kPoseSize);
   ASSERT_EQ(kPoseSize, 88u);
-  // Header: "ACDH", version 1 (LE u16), type, flags, sequence (LE u32), reserved, timestamp.
+  // Header: "ACDH", version 2 (LE u16), type, flags, sequence (LE u32), session (LE u32),
+  // timestamp.
   EXPECT_EQ(std::string(bytes.begin(), bytes.begin() + 4), "ACDH");
-  EXPECT_EQ(bytes[4], 1);
+  EXPECT_EQ(bytes[4], 2);
   EXPECT_EQ(bytes[5], 0);
   EXPECT_EQ(bytes[6], 1);
   EXPECT_EQ(bytes[8], 0x04);
   EXPECT_EQ(bytes[11], 0x01);
+  EXPECT_EQ(bytes[12], 0xD4);
+  EXPECT_EQ(bytes[15], 0xA1);
   EXPECT_EQ(f64_at(bytes, 16), 12.5);
   // Body: position x, y, z at 24, 32, 40; quaternion w, x, y, z at 48..; buttons at 80.
   EXPECT_EQ(f64_at(bytes, 24), 0.01);
@@ -62,6 +66,7 @@ TEST(BridgeProtocol, PoseRoundTripsWithTheDocumentedLayout) {
   ASSERT_EQ(decode(bytes, back), DecodeError::kNone);
   EXPECT_EQ(back.type, MessageType::kPose);
   EXPECT_EQ(back.sequence, m.sequence);
+  EXPECT_EQ(back.session, m.session);
   EXPECT_EQ(back.timestamp_s, m.timestamp_s);
   EXPECT_EQ(back.pose.position, m.pose.position);
   EXPECT_EQ(back.pose.orientation.coeffs(), m.pose.orientation.coeffs());
@@ -98,6 +103,28 @@ TEST(BridgeProtocol, ForceAndEndMessagesRoundTrip) {
   }
 }
 
+// The session handshake: hello carries the bridge's nonce; welcome the session number in its
+// header and the nonce back, both 32 bytes (type 5 and 6).
+TEST(BridgeProtocol, HelloAndWelcomeRoundTrip) {
+  for (MessageType t : {MessageType::kHello, MessageType::kWelcome}) {
+    Message h;
+    h.type = t;
+    h.sequence = 1;
+    h.session = t == MessageType::kWelcome ? 0x01020304u : 0u;
+    h.nonce = 0xCAFEF00Du;
+    const auto hb = encoded(h);
+    ASSERT_EQ(hb.size(), kHelloSize);
+    EXPECT_EQ(hb[6], static_cast<std::uint8_t>(t));
+    EXPECT_EQ(hb[24], 0x0D);
+    EXPECT_EQ(hb[27], 0xCA);
+    Message back;
+    ASSERT_EQ(decode(hb, back), DecodeError::kNone);
+    EXPECT_EQ(back.type, t);
+    EXPECT_EQ(back.nonce, h.nonce);
+    EXPECT_EQ(back.session, h.session);
+  }
+}
+
 TEST(BridgeProtocol, EncodeRefusesATooSmallBuffer) {
   std::vector<std::uint8_t> small(kPoseSize - 1);
   EXPECT_EQ(encode(pose_message(), small), 0u);
@@ -117,9 +144,9 @@ TEST(BridgeProtocol, RejectsMalformedDatagramsSayingWhy) {
   EXPECT_EQ(decode(bad_magic, out, &why), DecodeError::kBadMagic);
 
   auto bad_version = good;
-  bad_version[4] = 2;
+  bad_version[4] = 1;  // version 1 had no session: refused, not misread
   EXPECT_EQ(decode(bad_version, out, &why), DecodeError::kBadVersion);
-  EXPECT_NE(why.find("version 2"), std::string::npos) << why;
+  EXPECT_NE(why.find("version 1"), std::string::npos) << why;
 
   auto bad_type = good;
   bad_type[6] = 9;
@@ -158,8 +185,8 @@ TEST(BridgeProtocol, RandomBytesNeverDecodeUnlessTheyFormAMessage) {
     for (auto& b : bytes) b = static_cast<std::uint8_t>(byte(rng));
     // Half the trials start with a valid header prefix to reach the later checks.
     if (trial % 2 == 0 && bytes.size() >= 8) {
-      std::memcpy(bytes.data(), "ACDH\x01\x00", 6);
-      bytes[6] = static_cast<std::uint8_t>(1 + trial % 4);
+      std::memcpy(bytes.data(), "ACDH\x02\x00", 6);
+      bytes[6] = static_cast<std::uint8_t>(1 + trial % 6);
     }
     Message out;
     if (decode(bytes, out) == DecodeError::kNone) {

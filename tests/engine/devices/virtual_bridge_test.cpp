@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <thread>
 
@@ -79,6 +80,9 @@ TEST(VirtualBridge, PlaysTheTrajectoryAndExchangesForcesAndEnds) {
   EXPECT_GT(r.bridge.forces_received, 100);
   EXPECT_NEAR(r.bridge.max_force_N, 3.0, 0.2);  // 1000 N/m x 3 mm
   EXPECT_NEAR(r.bridge.loop.rate_hz, 1000.0, 100.0);
+  EXPECT_FALSE(r.bridge.peer_lost);
+  EXPECT_EQ(r.bridge.packets_foreign, 0);
+  EXPECT_EQ(r.device.packets_foreign, 0);
 }
 
 TEST(VirtualBridge, DroppedPacketsAreCountedAsLostByTheDevice) {
@@ -107,6 +111,41 @@ TEST(VirtualBridge, InjectedNaNAndSilenceReachTheDevice) {
   EXPECT_GT(stale_samples, 10);
   EXPECT_EQ(r.device.silences, 1);
   EXPECT_GE(r.device.longest_silence_s, 0.09);
+}
+
+// A simulator that dies mid-attempt (no attempt-over, no more forces) is noticed after the
+// peer timeout: the bridge stops playing and reports the peer lost, not connected.
+TEST(VirtualBridge, NoticesASimulatorThatStoppedAnswering) {
+  std::string error;
+  auto device = UdpDevice::open(UdpDeviceOptions{}, &error);
+  ASSERT_TRUE(device) << error;
+  VirtualBridgeOptions options;
+  options.port = device->port();
+  options.peer_timeout_s = 0.1;
+  VirtualBridgeResult r;
+  std::thread bridge_thread([&] {
+    // 3 s to play: far longer than the simulator lives.
+    std::vector<TrajectorySample> s(2);
+    s[1].t_s = 3.0;
+    r = VirtualBridge(Trajectory(std::move(s)), options).run();
+  });
+  ASSERT_TRUE(device->wait_for_connection(5.0));
+  for (int tick = 0; tick < 50; ++tick) {  // 50 ms of a live simulator, then silence
+    DeviceSample sample;
+    device->sample(0.0, sample);
+    device->render_force(Vec3::Zero());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  bridge_thread.join();
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_TRUE(r.peer_lost);
+  EXPECT_FALSE(r.connected);
+  EXPECT_FALSE(r.sent_end);
+  EXPECT_FALSE(r.attempt_over);
+  EXPECT_GE(r.last_force_at_s, 0.0);
+  EXPECT_LT(r.played_s, 2.0);
+  EXPECT_NE(r.session, 0u);
+  EXPECT_GT(r.forces_received, 0);
 }
 
 TEST(VirtualBridge, ReportsWhenNoSimulatorAnswers) {
