@@ -94,11 +94,11 @@ std::string benchmark_text(const ScoreTableRow& row) {
 
 std::vector<std::string> score_scale_text(const Rubric* rubric) {
   std::vector<std::string> lines = {
-      "Each metric is scored against the experts: 50 = the experts' mean, and every expert "
-      "standard deviation (SD) better or worse is 10 points more or less (clipped to 0-100).",
-      "\"Higher is better\": more of the metric scores more (e.g. nucleus removed); \"lower is "
-      "better\": less scores more (force, time near a danger zone). Where the experts' mean is "
-      "0, as for most safety metrics, 50 is the best score: as safe as the experts.",
+      "50 = the experts' mean; each expert standard deviation (SD) better or worse is 10 points "
+      "more or less (0-100).",
+      "\"Higher is better\": more of the metric scores more (nucleus removed); \"lower is "
+      "better\": less scores more (force, time near a zone). Where the experts' mean is 0, 50 "
+      "is the best there is: as safe as the experts.",
   };
   std::string composite = "The score is the weighted mean of the metric scores";
   if (rubric) composite += format("; pass at %.0f", rubric->pass_score);

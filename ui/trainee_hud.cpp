@@ -274,8 +274,13 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
                                ", must stay at or below " + format("%.3g", row.gate_max) + ".");
   }
   for (const std::string& r : run.score.reasons) {
-    if (std::find(s.improvements.begin(), s.improvements.end(), r) == s.improvements.end())
-      s.improvements.push_back(r);
+    // A failed gate is said above in words, a never-event by the zone findings.
+    bool said = std::find(s.improvements.begin(), s.improvements.end(), r) != s.improvements.end();
+    for (const ScoreTableRow& row : s.rows)
+      said = said || (row.judgement == MetricJudgement::kGated && !row.good &&
+                      r.rfind(row.metric + " = ", 0) == 0);
+    said = said || (!s.zone_findings.empty() && r.rfind("never-event:", 0) == 0);
+    if (!said) s.improvements.push_back(r);
   }
   if (s.improvements.empty())
     s.improvements.push_back(
@@ -286,7 +291,7 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
 }
 
 bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
-  const float width = std::min(760.0f, display.x - 40.0f);
+  const float width = std::min(960.0f, display.x - 40.0f);
   ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, display.y * 0.5f), ImGuiCond_Always,
                           ImVec2(0.5f, 0.5f));
   ImGui::SetNextWindowSize(ImVec2(width, 0));

@@ -100,8 +100,10 @@ TEST(ScoreTable, TheScaleIsExplained) {
   const std::vector<std::string> lines = score_scale_text(&r);
   ASSERT_EQ(lines.size(), 4u);
   EXPECT_NE(lines[0].find("50 = the experts' mean"), std::string::npos);
-  EXPECT_NE(lines[0].find("standard deviation (SD) better or worse is 10 points"), std::string::npos);
-  EXPECT_NE(lines[1].find("\"Higher is better\": more of the metric scores more"), std::string::npos);
+  EXPECT_NE(lines[0].find("standard deviation (SD) better or worse is 10 points"), std::string::npos)
+      << lines[0];
+  EXPECT_NE(lines[1].find("\"Higher is better\": more of the metric scores more"), std::string::npos)
+      << lines[1];
   EXPECT_NE(lines[2].find("pass at 60"), std::string::npos) << lines[2];
   EXPECT_EQ(lines[3],
             "Safety metrics are earned only by doing the task (Nucleus removed (fraction) at least "

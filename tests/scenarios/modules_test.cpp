@@ -78,7 +78,8 @@ TEST(BundledModules, DoingNothingScoresNothingOnSafety) {
     const ScoreResult s = score_attempt(idle, rubric);
     EXPECT_FALSE(s.task_done) << module;
     EXPECT_FALSE(s.passed) << module;
-    EXPECT_LT(s.score, 5.0) << module;
+    // Only the removal term is left, far below the experts (the box's 0 is 3 SDs short: 20).
+    EXPECT_LT(s.score, 10.5) << module;
     for (const TermScore& t : s.terms)
       if (t.safety) EXPECT_EQ(t.score, 0.0) << module << ": " << t.metric;
   }
