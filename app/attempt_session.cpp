@@ -1,6 +1,7 @@
 // The attempt session: see attempt_session.hpp. Each step below crosses into one library.
 #include "app/attempt_session.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <ostream>
@@ -14,6 +15,7 @@
 #include "db/checkpoint_writer.hpp"
 #include "db/outcome_side_file.hpp"
 #include "db/progression.hpp"
+#include "scenarios/curriculum_set.hpp"
 #include "scenarios/scenario_loader.hpp"
 
 namespace acdr {
@@ -35,7 +37,7 @@ CheckpointSink checkpoint_sink(CheckpointWriter& writer) {
 
 // The module (and its curriculum) as the record knows it, updated from the scenario. Returns
 // the store's error, or an empty string.
-std::string register_module(Database& db, const ScenarioModel& scenario) {
+std::string register_one_module(Database& db, const ScenarioModel& scenario) {
   if (!scenario.curriculum.empty()) {
     if (auto c = upsert_curriculum(db, CurriculumRecord{scenario.curriculum, scenario.curriculum});
         !c)
@@ -54,6 +56,27 @@ std::string register_module(Database& db, const ScenarioModel& scenario) {
   return {};
 }
 
+// The scenario's whole curriculum as the record knows it: every module of the curriculum's
+// folder (options.curriculum_dir, or the scenario's own), then the scenario itself, so that
+// prerequisites are registered before any has been attempted. Files of the folder that are no
+// scenario are noted on `notes`. Returns the store's error, or an empty string.
+std::string register_module(Database& db, const ScenarioModel& scenario,
+                            const SessionOptions& options, std::ostream& notes) {
+  if (!scenario.curriculum.empty()) {
+    const std::string dir = !options.curriculum_dir.empty()
+                                ? options.curriculum_dir
+                                : std::filesystem::path(scenario.path).parent_path().string();
+    const CurriculumSet set = load_curriculum_set(dir, scenario.curriculum);
+    if (!options.quiet)
+      for (const std::string& line : set.skipped) notes << "curriculum: skipped " << line << "\n";
+    for (const auto& module : set.modules) {
+      if (module->id == scenario.id) continue;  // registered from the file being run, below
+      if (std::string e = register_one_module(db, *module); !e.empty()) return e;
+    }
+  }
+  return register_one_module(db, scenario);
+}
+
 // The record: opened, the module registered, the progression gate checked, the attempt begun
 // (its row exists from the start, status running, so a crash leaves a trace). Sets db_path and
 // attempt_id of `result`; nullopt when refused (`result` says why).
@@ -68,7 +91,7 @@ std::optional<Database> begin_in_record(const SessionOptions& options,
     refuse(result, db.error().message);
     return std::nullopt;
   }
-  if (std::string e = register_module(db.value(), scenario); !e.empty()) {
+  if (std::string e = register_module(db.value(), scenario, options, notes); !e.empty()) {
     refuse(result, e);
     return std::nullopt;
   }

@@ -1,6 +1,7 @@
 // One attempt from its scenario file to its stored record, as one library call. In order:
 // load the scenario; open the input device (a replay or a haptic bridge; the mouse belongs to
-// the view); open the record, register the module and its curriculum, check the progression
+// the view); open the record, register the module and every module of its curriculum (the
+// scenario files beside it, or in a given folder), check the progression
 // gate and begin the attempt (its row exists from the start, so a crash leaves a trace); run
 // it, headless as fast as it steps, or live on the haptic thread (a bridge, or a window the
 // session drives through AttemptView), with periodic checkpoints; store it, completed or
@@ -34,6 +35,11 @@ struct SessionOptions {
   std::string override_by;        ///< who decided (required with override_lock)
   std::string override_reason;
   std::string db;                 ///< empty: default_database_path()
+  /// The folder whose scenario files make up the scenario's curriculum (every file there with
+  /// the same `curriculum` is registered before the gate is checked, so the lock holds from
+  /// the first attempt). Empty: the scenario file's own folder (for a bundled module, the
+  /// bundled set in scenarios/modules/).
+  std::string curriculum_dir;
   std::string record;             ///< also write the recording to this file, when set
   /// udp: how long to wait for the bridge's first packet, and the disconnect timeout (s).
   double device_timeout_s = 5.0;

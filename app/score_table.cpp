@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <utility>
 
+#include "assessment/zone_findings.hpp"
+
 namespace acdr {
 namespace {
 
@@ -29,8 +31,13 @@ ScoreTableRow scored_row(const TermScore& term, const Rubric* rubric) {
   row.judgement = MetricJudgement::kScored;
   row.score = term.score;
   row.good = term.score >= 50.0;
+  row.safety = term.safety;
+  row.withheld = term.withheld;
   if (rubric)
-    if (const RubricTerm* r = find_metric(rubric->terms, term.metric)) row.benchmark = *r;
+    if (const RubricTerm* r = find_metric(rubric->terms, term.metric)) {
+      row.benchmark = *r;
+      row.safety = row.safety || r->safety;  // a stored score does not keep the group
+    }
   return row;
 }
 
@@ -77,11 +84,31 @@ std::string benchmark_text(const ScoreTableRow& row) {
       if (!row.benchmark) return "benchmark unknown";
       return format("experts %.3g ± %.2g, ", row.benchmark->expert_mean,
                     row.benchmark->expert_sd) +
-             (row.benchmark->higher_is_better ? "higher is better" : "lower is better");
+             (row.benchmark->higher_is_better ? "higher is better" : "lower is better") +
+             (row.withheld ? "; task not done: 0" : "");
     case MetricJudgement::kGated: return format("at most %.3g", row.gate_max);
     case MetricJudgement::kNotAssessed: break;
   }
   return "";
+}
+
+std::vector<std::string> score_scale_text(const Rubric* rubric) {
+  std::vector<std::string> lines = {
+      "50 = the experts' mean; each expert standard deviation (SD) better or worse is 10 points "
+      "more or less (0-100).",
+      "\"Higher is better\": more of the metric scores more (nucleus removed); \"lower is "
+      "better\": less scores more (force, time near a zone). Where the experts' mean is 0, 50 "
+      "is the best there is: as safe as the experts.",
+  };
+  std::string composite = "The score is the weighted mean of the metric scores";
+  if (rubric) composite += format("; pass at %.0f", rubric->pass_score);
+  composite += ", with every safety gate held and no never-event.";
+  lines.push_back(composite);
+  if (rubric && rubric->task)
+    lines.push_back("Safety metrics are earned only by doing the task (" +
+                    metric_label(rubric->task->metric) + format(" at least %.3g", rubric->task->min) +
+                    "); otherwise they score 0.");
+  return lines;
 }
 
 std::string metric_label(const std::string& metric) {
@@ -101,9 +128,30 @@ std::string metric_label(const std::string& metric) {
       {"tip_path_length_mm", "Tip path length (mm)"},
       {"duration_s", "Duration (s)"},
       {"idle_time_s", "Idle time (s)"},
+      {"zone_warnings", "Danger zone warnings"},
+      {"zone_entries", "Danger zone entries"},
+      {"zone_over_limit_events", "Force over a zone's limit (times)"},
+      {"zone_peak_force_N", "Peak force near a danger zone (N)"},
+      {"zone_impulse_Ns", "Force-time near danger zones (N·s)"},
+      {"zone_dwell_s", "Time near danger zones (s)"},
+      {"never_events", "Never-events"},
   };
   for (const auto& [name, label] : kLabels)
     if (name == metric) return label;
+  // zone.<id>.<quantity> -> "<zone>: <quantity>", e.g. "Spinal cord / PLL: peak force (N)".
+  if (metric.rfind("zone.", 0) == 0) {
+    const std::size_t dot = metric.find('.', 5);
+    if (dot != std::string::npos && dot + 1 < metric.size()) {
+      std::string zone = zone_display_name(metric.substr(5, dot - 5));
+      for (char& c : zone)
+        if (c == '_') c = ' ';
+      if (!zone.empty() && zone[0] >= 'a' && zone[0] <= 'z') zone[0] = static_cast<char>(zone[0] - 'a' + 'A');
+      std::string quantity = metric_label(metric.substr(dot + 1));
+      if (!quantity.empty() && quantity[0] >= 'A' && quantity[0] <= 'Z')
+        quantity[0] = static_cast<char>(quantity[0] - 'A' + 'a');
+      return zone + ": " + quantity;
+    }
+  }
   // snake_case_with_unit -> "Snake case with (unit)"
   std::string words = metric;
   std::string unit;

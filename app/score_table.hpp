@@ -31,6 +31,8 @@ struct ScoreTableRow {
   /// kScored: at or better than the experts' mean (score >= 50); kGated: held; else true.
   bool good = true;
   std::optional<RubricTerm> benchmark;  ///< kScored, when the rubric is known
+  bool safety = false;    ///< kScored: a Risk & Safety term (earned only when the task was done)
+  bool withheld = false;  ///< kScored: a safety term scored 0 because the task was not done
 };
 
 /// Which metrics a table lists.
@@ -47,6 +49,12 @@ std::vector<ScoreTableRow> score_table(const Metrics& metrics, const ScoreResult
 /// The benchmark column: "experts 0.15 ± 0.05, higher is better" (scored), "at most 0"
 /// (gated), "benchmark unknown" (scored, rubric not known), "" (not assessed).
 std::string benchmark_text(const ScoreTableRow& row);
+
+/// How to read the scores, in a few short sentences for the score screen, the dashboard and the
+/// terminal: 50 is the experts' mean, one expert standard deviation is 10 points, what "higher
+/// is better" and "lower is better" mean, how the composite is formed, and (when the rubric has
+/// safety terms) that they are earned only by doing the task. `rubric` null: the general text.
+std::vector<std::string> score_scale_text(const Rubric* rubric);
 
 /// A human label for a metric name ("peak_instrument_force_N" -> "Peak instrument force (N)").
 std::string metric_label(const std::string& metric);

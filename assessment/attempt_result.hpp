@@ -20,6 +20,8 @@ struct TermScore {
   std::string metric;
   double value = 0.0;
   double score = 0.0;  ///< 0..100
+  bool safety = false;    ///< a Risk & Safety term (RubricTerm::safety)
+  bool withheld = false;  ///< a safety term scored 0 because the task was not done
 };
 
 struct GateResult {
@@ -32,6 +34,7 @@ struct GateResult {
 struct ScoreResult {
   double score = 0.0;  ///< composite 0..100
   bool passed = false;
+  bool task_done = true;  ///< the rubric's task rule held (true when it has none)
   std::vector<TermScore> terms;
   std::vector<GateResult> gates;
   std::vector<std::string> reasons;  ///< why it failed, in words

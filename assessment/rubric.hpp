@@ -2,6 +2,7 @@
 // fills it, assessment applies it).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,17 @@ struct RubricTerm {
   double expert_sd = 1.0;
   bool higher_is_better = true;
   double weight = 1.0;
+  /// A Risk & Safety term (as the da Vinci MScore groups its metrics): it scores only when the
+  /// attempt did the task (Rubric::task); otherwise 0, so staying away from the anatomy by
+  /// doing nothing earns nothing.
+  bool safety = false;
+};
+
+/// What "did the task" means: the metric reached `min` (e.g. nucleus_removed_fraction at
+/// least a quarter of the experts' mean). Safety terms score only then.
+struct TaskRule {
+  std::string metric;
+  double min = 0.0;
 };
 
 /// A safety gate: the metric must stay at or below `max` for the attempt to pass,
@@ -27,6 +39,8 @@ struct SafetyGate {
 struct Rubric {
   std::vector<RubricTerm> terms;
   std::vector<SafetyGate> gates;
+  /// Required when any term is a safety term; none: every attempt counts as having done it.
+  std::optional<TaskRule> task;
   double pass_score = 50.0;            ///< composite score needed to pass
   int consecutive_passes_to_master = 2;  ///< FLS / MScore proficiency rule
 };

@@ -10,16 +10,39 @@ namespace acdr {
 
 ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
   ScoreResult r;
+  // Did the attempt do the task? Safety terms are earned only then: an attempt that stays
+  // clear of every danger zone by removing nothing is not safe, it is absent.
+  if (rubric.task) {
+    const double* done = metrics.find(rubric.task->metric);
+    r.task_done = done && *done >= rubric.task->min;
+    if (!r.task_done) {
+      char text[240];
+      if (done)
+        std::snprintf(text, sizeof text,
+                      "the task was not done (%s = %.3g, at least %.3g needed), so the safety "
+                      "terms score 0",
+                      rubric.task->metric.c_str(), *done, rubric.task->min);
+      else
+        std::snprintf(text, sizeof text,
+                      "the task was not done (%s was not measured), so the safety terms score 0",
+                      rubric.task->metric.c_str());
+      r.reasons.push_back(text);
+    }
+  }
   double weighted = 0, weights = 0;
   for (const RubricTerm& term : rubric.terms) {
     const double* value = metrics.find(term.metric);
     TermScore ts;
     ts.metric = term.metric;
-    if (!value) {
+    ts.safety = term.safety;
+    if (value) ts.value = *value;
+    if (term.safety && !r.task_done) {
+      ts.withheld = true;
+      ts.score = 0;
+    } else if (!value) {
       r.reasons.push_back("metric '" + term.metric + "' was not measured");
       ts.score = 0;
     } else {
-      ts.value = *value;
       const double sd = term.expert_sd > 0 ? term.expert_sd : 1.0;
       double z = (*value - term.expert_mean) / sd;
       if (!term.higher_is_better) z = -z;
@@ -72,7 +95,7 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
                   rubric.pass_score);
     r.reasons.push_back(text);
   }
-  r.passed = gates_ok && numerics_ok && never_ok && r.score >= rubric.pass_score;
+  r.passed = r.task_done && gates_ok && numerics_ok && never_ok && r.score >= rubric.pass_score;
   return r;
 }
 

@@ -37,6 +37,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--override-by", run.override_by, "Who allowed the override");
   run_cmd->add_option("--override-reason", run.override_reason, "Why");
   run_cmd->add_option("--db", run.db, "Database file (default: $ACDR_DB or the data directory)");
+  run_cmd->add_option("--curriculum", run.curriculum_dir,
+                      "Folder of the curriculum's scenario files (default: the scenario's own "
+                      "folder); all are registered so prerequisites hold from the first attempt");
   run_cmd->add_option("--png", run.png, "Write a picture of the final frame");
   run_cmd->add_option("--record", run.record, "Also write the attempt's recording to a file");
   run_cmd->add_flag("--json", run.json, "Print the result as JSON on stdout");

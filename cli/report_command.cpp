@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "db/attempt_store.hpp"
+#include "db/catalog.hpp"
 #include "db/database.hpp"
 #include "db/report.hpp"
 
@@ -26,6 +27,40 @@ int run_report(const ReportOptions& options, std::ostream& out, std::ostream& er
   if (!db) {
     err << "acdr report: " << db.error().message << '\n';
     return 1;
+  }
+  // A trainee or module the record does not know is a mistake (a typo, the wrong record), not
+  // an empty report: say so, with what the record does hold.
+  if (options.trainee) {
+    DbResult<std::optional<TraineeRecord>> known = find_trainee(db.value(), *options.trainee);
+    if (!known) {
+      err << "acdr report: " << known.error().message << '\n';
+      return 1;
+    }
+    if (!known.value()) {
+      DbResult<std::vector<TraineeRecord>> all = list_trainees(db.value());
+      std::string ids;
+      if (all)
+        for (const TraineeRecord& t : all.value()) ids += (ids.empty() ? "" : ", ") + t.id;
+      err << "acdr report: no trainee '" << *options.trainee << "' in " << path << " ("
+          << (ids.empty() ? std::string("it has no trainees yet") : "trainees: " + ids) << ")\n";
+      return 2;
+    }
+  }
+  if (options.module) {
+    DbResult<std::optional<ModuleRecord>> known = find_module(db.value(), *options.module);
+    if (!known) {
+      err << "acdr report: " << known.error().message << '\n';
+      return 1;
+    }
+    if (!known.value()) {
+      DbResult<std::vector<ModuleRecord>> all = list_modules(db.value());
+      std::string ids;
+      if (all)
+        for (const ModuleRecord& m : all.value()) ids += (ids.empty() ? "" : ", ") + m.id;
+      err << "acdr report: no module '" << *options.module << "' in " << path << " ("
+          << (ids.empty() ? std::string("it has no modules yet") : "modules: " + ids) << ")\n";
+      return 2;
+    }
   }
   ReportRequest request;
   request.trainee_id = options.trainee;

@@ -20,7 +20,8 @@ struct ReportOptions {
 };
 
 /// Writes the report to `out`; problems go to `err` as one line each. Returns the process exit
-/// code: 0 on success, 2 for bad options (unknown format), 1 when the record cannot be read
+/// code: 0 on success, 2 for bad options (unknown format; a --trainee or --module the record
+/// does not hold, with the ids it does hold), 1 when the record cannot be read
 /// (no file, newer schema, ...). Never creates a database: a mistyped --db is reported. Opening
 /// marks attempts left running by killed programs as aborted, so they show as such.
 int run_report(const ReportOptions& options, std::ostream& out, std::ostream& err = std::cerr);

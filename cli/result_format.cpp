@@ -8,6 +8,7 @@
 
 #include "app/score_table.hpp"
 #include "assessment/metric_catalog.hpp"
+#include "assessment/zone_findings.hpp"
 #include "engine/core/state_hash.hpp"
 
 namespace acdr {
@@ -205,26 +206,22 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
     s += line;
     std::vector<std::string> names;
     for (const auto& z : zones) names.push_back(z.name);
-    const std::vector<std::string> ids = zone_metric_ids(names);
-    for (const std::string& id : ids) {
-      const std::string dwell = zone_metric_name(id, "dwell_s");
-      if (metric(dwell.c_str()) <= 0.0) continue;
+    // Each zone approached, in words, with its figures.
+    for (const ZoneFinding& f : zone_findings(c.run.metrics, names)) {
+      s += "    " + f.text + "\n";
       std::snprintf(line, sizeof line,
-                    "    %-26s closest %7.2f mm, %.2f s near, peak %.3f N, impulse %.4f N·s, "
-                    "%g entries\n",
-                    id.c_str(), metric(zone_metric_name(id, "closest_mm").c_str()),
-                    metric(dwell.c_str()), metric(zone_metric_name(id, "peak_force_N").c_str()),
-                    metric(zone_metric_name(id, "impulse_Ns").c_str()),
-                    metric(zone_metric_name(id, "entries").c_str()));
+                    "      (closest %.2f mm, %.2f s near, %.2f s inside, impulse %.4f N·s)\n",
+                    f.closest_mm, f.dwell_s, f.inside_s, f.impulse_Ns);
       s += line;
     }
   }
-  s += "  score by metric:\n";
+  s += "  score by metric (S: a safety term):\n";
   for (const ScoreTableRow& row :
        score_table(c.run.metrics, c.run.score, &c.scenario.rubric, ScoreTableScope::kAssessed)) {
     if (row.judgement == MetricJudgement::kScored)
-      std::snprintf(line, sizeof line, "    %-28s %10.4g  -> %5.1f / 100\n", row.metric.c_str(),
-                    row.value, row.score);
+      std::snprintf(line, sizeof line, "    %s %-26s %10.4g  -> %5.1f / 100  (%s)\n",
+                    row.safety ? "S" : " ", row.metric.c_str(), row.value, row.score,
+                    benchmark_text(row).c_str());
     else
       std::snprintf(line, sizeof line, "    gate %-23s %10.4g  (max %g) %s\n",
                     row.metric.c_str(), row.value, row.gate_max, row.good ? "ok" : "FAILED");
@@ -234,6 +231,8 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
                 c.scenario.rubric.pass_score, c.run.score.passed ? "PASSED" : "NOT PASSED");
   s += line;
   for (const std::string& r : c.run.score.reasons) s += "    - " + r + "\n";
+  s += "  how to read it:\n";
+  for (const std::string& r : score_scale_text(&c.scenario.rubric)) s += "    " + r + "\n";
   if (result.haptics) {
     const HapticLoopStats& h = result.haptics->loop;
     std::snprintf(line, sizeof line,

@@ -31,6 +31,16 @@ std::string exact_number(double value) {
   return ec == std::errc() ? std::string(buffer, end) : std::string("NaN");
 }
 
+// A CSV cell: nine significant digits, trailing zeros dropped (9.800000000000008 -> 9.8), so
+// the sums of many 1 ms steps read as the figures they are; nine digits keep every metric's
+// resolution (the recording keeps the exact values).
+std::string csv_number(double value) {
+  if (!std::isfinite(value)) return exact_number(value);
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.9g", value);
+  return buffer;
+}
+
 std::string fixed(double value, int decimals) {
   if (!std::isfinite(value)) return exact_number(value);
   char buffer[64];
@@ -316,8 +326,8 @@ void write_report_csv(const ReportData& data, std::ostream& out) {
         attempt_status_name(a.status),
         csv_text(a.started_utc),
         csv_text(a.ended_utc.value_or("")),
-        a.duration_s ? exact_number(*a.duration_s) : "",
-        a.score ? exact_number(*a.score) : "",
+        a.duration_s ? csv_number(*a.duration_s) : "",
+        a.score ? csv_number(*a.score) : "",
         a.passed ? (*a.passed ? "true" : "false") : "",
         a.override_lock ? "true" : "false",
         csv_text(a.override_by),
@@ -330,7 +340,7 @@ void write_report_csv(const ReportData& data, std::ostream& out) {
     for (const std::string& name : metric_names) {
       const auto it = std::find_if(a.metrics.values.begin(), a.metrics.values.end(),
                                    [&](const auto& m) { return m.first == name; });
-      cells.push_back(it == a.metrics.values.end() ? "" : exact_number(it->second));
+      cells.push_back(it == a.metrics.values.end() ? "" : csv_number(it->second));
     }
     std::string line;
     for (std::size_t i = 0; i < cells.size(); ++i) {

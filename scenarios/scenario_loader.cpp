@@ -641,6 +641,7 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
     }
     if (auto v = tr.boolean("higher_is_better", Need::kRequired)) t.higher_is_better = *v;
     if (auto v = tr.number("weight", Need::kOptional, Range::closed(0.0, 1000.0))) t.weight = *v;
+    if (auto b = tr.boolean("safety", Need::kOptional)) t.safety = *b;
     tr.finish();
     rubric.terms.push_back(t);
   }
@@ -653,6 +654,20 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
     if (auto v = gr.number("max", Need::kRequired, Range::any())) g.max = *v;
     gr.finish();
     rubric.gates.push_back(g);
+  }
+  // What "did the task" means; safety terms score only when it holds, so a rubric with any
+  // must say.
+  const bool has_safety_term =
+      std::any_of(rubric.terms.begin(), rubric.terms.end(), [](const RubricTerm& t) { return t.safety; });
+  if (auto o = r.object("task", has_safety_term ? Need::kRequiredHere : Need::kOptional)) {
+    TaskRule task;
+    if (auto s = o->string("metric", Need::kRequired, true, metrics, "the metric that shows the task was done",
+                           zone_metric_pattern())) {
+      task.metric = *s;
+    }
+    if (auto v = o->number("min", Need::kRequired, Range::any())) task.min = *v;
+    o->finish();
+    rubric.task = task;
   }
   if (!rubric.terms.empty()) {
     double total = 0.0;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "assessment/recording.hpp"
+#include "assessment/zone_findings.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
 #include "engine/rigid/instrument.hpp"
@@ -143,6 +144,13 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   load_scenario_parts(db, *d);
   d->metric_rows = score_table(d->record.metrics, d->record.score_detail,
                                d->rubric ? &*d->rubric : nullptr, ScoreTableScope::kAllMetrics);
+  d->scale = score_scale_text(d->rubric ? &*d->rubric : nullptr);
+  auto describe_zones = [&d](const std::vector<std::string>& zone_names) {
+    d->zone_findings.clear();
+    for (const ZoneFinding& f : zone_findings(d->record.metrics, zone_names))
+      d->zone_findings.push_back(f.text);
+  };
+  describe_zones({});
   if (!d->record.recording) {
     d->recording_error = "no recording stored (the attempt was " +
                          std::string(attempt_status_name(d->record.status)) + ")";
@@ -153,6 +161,9 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   if (!d->recording) return d;
 
   const AttemptRecording& r = *d->recording;
+  std::vector<std::string> zone_names;
+  for (const auto& z : r.summary.zones) zone_names.push_back(z.name);
+  if (!zone_names.empty()) describe_zones(zone_names);
   const std::size_t n = r.frames.size();
   d->t_s.reserve(n);
   d->hand_force_N.reserve(n);

@@ -85,6 +85,11 @@ struct AttemptDrillDown {
   std::string scenario_error;
   /// Every recorded metric against its benchmark, as the attempt was scored.
   std::vector<ScoreTableRow> metric_rows;
+  /// What happened near the danger zones, in words (zone names from the recording when it
+  /// decodes, else the zone ids of the metrics).
+  std::vector<std::string> zone_findings;
+  /// How to read the scores (score_scale_text of the module's rubric).
+  std::vector<std::string> scale;
 
   /// Index of the last frame at or before time t (0 when none).
   std::size_t frame_at(double t_s) const;

@@ -252,8 +252,16 @@ void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
 void draw_metrics_table(const AttemptDrillDown& d) {
   ImGui::TextUnformatted("Metrics against benchmarks");
   draw_score_table("metrics", d.metric_rows);
+  ImGui::PushTextWrapPos(0.0f);
+  for (const std::string& z : d.zone_findings)
+    ImGui::TextColored(ui_colors::kDanger, "- Zones: %s", z.c_str());
   for (const std::string& r : d.record.score_detail.reasons)
     ImGui::TextColored(ui_colors::kWarning, "- %s", r.c_str());
+  if (ImGui::TreeNode("How to read the scores: 50 = the experts' mean, 10 points per expert SD")) {
+    for (const std::string& line : d.scale) ImGui::TextColored(ui_colors::kMuted, "%s", line.c_str());
+    ImGui::TreePop();
+  }
+  ImGui::PopTextWrapPos();
 }
 
 void draw_event_timeline(const AttemptDrillDown& d, DashboardSelection& sel) {

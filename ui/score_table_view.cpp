@@ -21,8 +21,13 @@ void draw_score_table(const char* id, const std::vector<ScoreTableRow>& rows) {
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
     switch (r.judgement) {
-      case MetricJudgement::kScored: ImGui::TextUnformatted(r.label.c_str()); break;
-      case MetricJudgement::kGated: ImGui::Text("Safety: %s", r.label.c_str()); break;
+      case MetricJudgement::kScored:
+        if (r.safety)
+          ImGui::Text("Safety: %s", r.label.c_str());
+        else
+          ImGui::TextUnformatted(r.label.c_str());
+        break;
+      case MetricJudgement::kGated: ImGui::Text("Gate: %s", r.label.c_str()); break;
       case MetricJudgement::kNotAssessed:
         ImGui::TextColored(ui_colors::kMuted, "%s", r.label.c_str());
         break;

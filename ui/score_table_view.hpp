@@ -11,7 +11,7 @@ namespace acdr {
 
 /// Draws `rows` as a table with ImGui id `id` in the current window: scored rows with their
 /// score (green at or above the experts' mean, amber below), gates as held (green) or FAILED
-/// (red), metrics not assessed in muted text.
+/// (red), metrics not assessed in muted text. Safety terms read "Safety: ...", gates "Gate: ...".
 void draw_score_table(const char* id, const std::vector<ScoreTableRow>& rows);
 
 }  // namespace acdr

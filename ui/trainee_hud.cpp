@@ -2,9 +2,11 @@
 #include "ui/trainee_hud.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 
+#include "assessment/zone_findings.hpp"
 #include "ui/imgui_style.hpp"
 #include "ui/score_table_view.hpp"
 
@@ -249,9 +251,19 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
   s.status_line = status_line;
   s.consecutive_passes_to_master = scenario.rubric.consecutive_passes_to_master;
   s.rows = score_table(run.metrics, run.score, &scenario.rubric, ScoreTableScope::kAssessed);
+  s.scale = score_scale_text(&scenario.rubric);
+  // What happened in the danger zones, by the zones' names.
+  std::vector<std::string> zone_names;
+  for (const auto& z : run.record.summary.zones) zone_names.push_back(z.name);
+  for (const ZoneFinding& f : zone_findings(run.metrics, zone_names)) {
+    std::string text = f.text;
+    if (!text.empty()) text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+    s.zone_findings.push_back(text + ".");
+  }
   // What to improve: each weak metric against the experts, each failed gate, then the reasons.
   for (const ScoreTableRow& row : s.rows) {
     if (row.good) continue;
+    if (row.withheld) continue;  // said once by the reason below
     if (row.judgement == MetricJudgement::kScored && row.benchmark)
       s.improvements.push_back(row.label + ": yours " + format("%.3g", row.value) +
                                ", experts " + format("%.3g", row.benchmark->expert_mean) +
@@ -262,8 +274,13 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
                                ", must stay at or below " + format("%.3g", row.gate_max) + ".");
   }
   for (const std::string& r : run.score.reasons) {
-    if (std::find(s.improvements.begin(), s.improvements.end(), r) == s.improvements.end())
-      s.improvements.push_back(r);
+    // A failed gate is said above in words, a never-event by the zone findings.
+    bool said = std::find(s.improvements.begin(), s.improvements.end(), r) != s.improvements.end();
+    for (const ScoreTableRow& row : s.rows)
+      said = said || (row.judgement == MetricJudgement::kGated && !row.good &&
+                      r.rfind(row.metric + " = ", 0) == 0);
+    said = said || (!s.zone_findings.empty() && r.rfind("never-event:", 0) == 0);
+    if (!said) s.improvements.push_back(r);
   }
   if (s.improvements.empty())
     s.improvements.push_back(
@@ -274,7 +291,7 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
 }
 
 bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
-  const float width = std::min(760.0f, display.x - 40.0f);
+  const float width = std::min(960.0f, display.x - 40.0f);
   ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, display.y * 0.5f), ImGuiCond_Always,
                           ImVec2(0.5f, 0.5f));
   ImGui::SetNextWindowSize(ImVec2(width, 0));
@@ -294,9 +311,24 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
                      s.pass_score);
   ImGui::Spacing();
   draw_score_table("metrics", s.rows);
+  // Long lines wrap inside the window (window-local x).
+  ImGui::PushTextWrapPos(width - ImGui::GetStyle().WindowPadding.x);
+  auto bullet = [](const std::string& line) {
+    ImGui::Bullet();
+    ImGui::TextUnformatted(line.c_str());
+  };
+  if (!s.zone_findings.empty()) {
+    ImGui::Spacing();
+    ImGui::TextColored(ui_colors::kDanger, "In the danger zones");
+    for (const std::string& line : s.zone_findings) bullet(line);
+  }
   ImGui::Spacing();
   ImGui::TextUnformatted("What to improve");
-  for (const std::string& line : s.improvements) ImGui::BulletText("%s", line.c_str());
+  for (const std::string& line : s.improvements) bullet(line);
+  ImGui::Spacing();
+  ImGui::TextColored(ui_colors::kMuted, "How to read the scores");
+  for (const std::string& line : s.scale) ImGui::TextColored(ui_colors::kMuted, "%s", line.c_str());
+  ImGui::PopTextWrapPos();
   if (!s.status_line.empty()) {
     ImGui::Spacing();
     ImGui::TextColored(ui_colors::kMuted, "%s", s.status_line.c_str());

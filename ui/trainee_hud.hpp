@@ -72,7 +72,9 @@ struct ScoreScreenModel {
   std::string end_reason;   ///< "time limit", "input ended", ...
   double duration_s = 0.0;
   std::vector<ScoreTableRow> rows;  ///< the scored metrics, then the safety gates
+  std::vector<std::string> zone_findings;  ///< what happened near the danger zones, in words
   std::vector<std::string> improvements;  ///< what to improve, in words
+  std::vector<std::string> scale;         ///< how to read the scores (score_scale_text)
   std::string status_line;  ///< e.g. "Stored as attempt 12"
   int consecutive_passes_to_master = 2;
 };

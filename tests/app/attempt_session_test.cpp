@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "db/attempt_store.hpp"
+#include "db/progression.hpp"
 #include "engine/devices/trajectory.hpp"
 #include "tests/app/test_scenes.hpp"
 #include "tests/db/db_test_support.hpp"
@@ -146,6 +147,68 @@ TEST(AttemptSession, ALockedModuleIsRefusedUnlessAnInstructorOverrides) {
   EXPECT_TRUE(a.override_lock);
   EXPECT_EQ(a.override_by, "dr-who");
   EXPECT_EQ(a.trainee_id, std::optional<std::string>("t1"));
+}
+
+// The curriculum is known from its scenario files, not learned from attempts: on a new record
+// the second module is locked from the very first attempt.
+TEST(AttemptSession, ANewRecordKnowsTheWholeCurriculumSoTheLockHoldsAtOnce) {
+  test::TempDir dir;
+  const std::string trajectory = write_short_trajectory(dir);
+  write_module(dir, "t-first", 1);
+  write_module(dir, "t-third", 3);
+  SessionOptions second = replay_options(dir, trajectory);
+  second.scenario = write_module(dir, "t-second", 2);
+  second.trainee = "t1";
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(second, nullptr, notes);
+  EXPECT_EQ(r.end, SessionEnd::kLocked) << r.error;
+  EXPECT_NE(r.error.find("module 't-second' is locked for trainee 't1': pass 't-first'"),
+            std::string::npos)
+      << r.error;
+  // Every module of the folder's curriculum is registered, so the progress lists all three.
+  Database db = test::open_or_fail(second.db);
+  auto progress = trainee_progress(db, "t1");
+  ASSERT_TRUE(progress) << progress.error().message;
+  ASSERT_EQ(progress->size(), 3u);
+  EXPECT_EQ((*progress)[0].module_id, "t-first");
+  EXPECT_TRUE((*progress)[0].unlocked);
+  EXPECT_FALSE((*progress)[1].unlocked);
+  EXPECT_FALSE((*progress)[2].unlocked);
+  EXPECT_EQ((*progress)[2].missing_prerequisites, std::vector<std::string>{"t-second"});
+  auto attempts = list_attempts(db);
+  ASSERT_TRUE(attempts);
+  EXPECT_TRUE(attempts->empty());  // refused before an attempt began
+}
+
+// The bundled set: module 02 refused on a new record for a trainee without module 01, with the
+// curriculum given as a folder (--curriculum) as well as taken from the scenario's own.
+TEST(AttemptSession, TheBundledModule02IsLockedOnANewRecord) {
+  test::TempDir dir;
+  const std::string modules = std::string(ACDR_SOURCE_DIR) + "/scenarios/modules";
+  SessionOptions o;
+  o.scenario = modules + "/02_c4c5_healthy.json";
+  o.input = "replay:" + std::string(ACDR_SOURCE_DIR) + "/content/trajectories/c4c5_novice.csv";
+  o.db = dir.file("new.sqlite");
+  o.trainee = "bob";
+  std::ostringstream notes;
+  SessionResult r = run_attempt_session(o, nullptr, notes);
+  EXPECT_EQ(r.end, SessionEnd::kLocked) << r.error;
+  EXPECT_NE(r.error.find("pass 'box-warmup' on 2 attempts in a row first"), std::string::npos)
+      << r.error;
+  EXPECT_EQ(notes.str(), "");  // every file of the bundled folder is a valid scenario
+
+  // A copy of the module alone in a folder, with the bundled folder given as the curriculum.
+  const std::string alone = dir.file("02.json");
+  std::filesystem::copy_file(o.scenario, alone);
+  o.scenario = alone;
+  o.curriculum_dir = modules;
+  o.db = dir.file("new2.sqlite");
+  r = run_attempt_session(o, nullptr, notes);
+  EXPECT_EQ(r.end, SessionEnd::kLocked) << r.error;
+  Database db = test::open_or_fail(o.db);
+  auto progress = trainee_progress(db, "bob");
+  ASSERT_TRUE(progress);
+  EXPECT_EQ(progress->size(), 4u);
 }
 
 // A view without a window: it watches the live attempt by polling it, and records what the

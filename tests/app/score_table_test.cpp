@@ -84,9 +84,31 @@ TEST(ScoreTable, BenchmarkTextsSayWhatEachRowIsHeldTo) {
 
 TEST(ScoreTable, LabelsAreWrittenOrDerivedFromTheName) {
   EXPECT_EQ(metric_label("peak_instrument_force_N"), "Peak instrument force (N)");
-  EXPECT_EQ(metric_label("zone_dwell_s"), "Zone dwell (s)");
+  EXPECT_EQ(metric_label("zone_dwell_s"), "Time near danger zones (s)");
   EXPECT_EQ(metric_label("artery_left_closest_mm"), "Artery left closest (mm)");
-  EXPECT_EQ(metric_label("never_events"), "Never events");
+  EXPECT_EQ(metric_label("never_events"), "Never-events");
+  // Per-zone metrics read with the zone's name.
+  EXPECT_EQ(metric_label("zone.spinal_cord_pll.peak_force_N"), "Spinal cord / PLL: peak force (N)");
+  EXPECT_EQ(metric_label("zone.vertebral_artery_l.dwell_s"), "Vertebral artery l: dwell (s)");
+}
+
+// The scale, in words every screen shows: 50, 10 points per SD, the direction, the task rule.
+TEST(ScoreTable, TheScaleIsExplained) {
+  Rubric r;
+  r.pass_score = 60;
+  r.task = TaskRule{"nucleus_removed_fraction", 0.18};
+  const std::vector<std::string> lines = score_scale_text(&r);
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_NE(lines[0].find("50 = the experts' mean"), std::string::npos);
+  EXPECT_NE(lines[0].find("standard deviation (SD) better or worse is 10 points"), std::string::npos)
+      << lines[0];
+  EXPECT_NE(lines[1].find("\"Higher is better\": more of the metric scores more"), std::string::npos)
+      << lines[1];
+  EXPECT_NE(lines[2].find("pass at 60"), std::string::npos) << lines[2];
+  EXPECT_EQ(lines[3],
+            "Safety metrics are earned only by doing the task (Nucleus removed (fraction) at least "
+            "0.18); otherwise they score 0.");
+  EXPECT_EQ(score_scale_text(nullptr).size(), 3u);
 }
 
 }  // namespace

@@ -72,3 +72,83 @@ TEST(Scoring, NeverEventFailsWhateverTheRubricAndNamesTheZone) {
 
 }  // namespace
 }  // namespace acdr
+
+namespace acdr {
+namespace {
+
+// A rubric as the anatomical modules write it: removal scored for quality, the shaft moment
+// and the time near danger zones scored for safety, earned only by doing the task.
+Rubric safety_rubric() {
+  Rubric r;
+  r.terms.push_back({"nucleus_removed_fraction", 0.6, 0.1, true, 2.0});
+  r.terms.push_back({"peak_bending_moment_Nm", 0.08, 0.04, false, 1.0, true});
+  r.terms.push_back({"zone_dwell_s", 0.0, 0.5, false, 1.0, true});
+  r.gates.push_back({"overload_events", 0.0});
+  r.task = TaskRule{"nucleus_removed_fraction", 0.15};
+  return r;
+}
+
+TEST(Scoring, DoingNothingEarnsNoSafetyPoints) {
+  Metrics idle;
+  idle.set("nucleus_removed_fraction", 0.0);
+  idle.set("peak_bending_moment_Nm", 0.0);  // never touched anything: 70 if it counted
+  idle.set("zone_dwell_s", 0.0);
+  idle.set("overload_events", 0);
+  const ScoreResult s = score_attempt(idle, safety_rubric());
+  EXPECT_FALSE(s.task_done);
+  ASSERT_EQ(s.terms.size(), 3u);
+  EXPECT_EQ(s.terms[1].score, 0.0);
+  EXPECT_TRUE(s.terms[1].withheld);
+  EXPECT_EQ(s.terms[2].score, 0.0);
+  EXPECT_FALSE(s.terms[0].withheld);  // quality terms are scored as they are
+  EXPECT_EQ(s.score, 0.0);
+  EXPECT_FALSE(s.passed);
+  ASSERT_FALSE(s.reasons.empty());
+  EXPECT_NE(s.reasons[0].find("the task was not done (nucleus_removed_fraction = 0, at least 0.15"),
+            std::string::npos)
+      << s.reasons[0];
+
+  // The same hands, having done the task: the safety terms count.
+  Metrics worked = idle;
+  worked.set("nucleus_removed_fraction", 0.6);
+  const ScoreResult w = score_attempt(worked, safety_rubric());
+  EXPECT_TRUE(w.task_done);
+  EXPECT_NEAR(w.terms[1].score, 70.0, 1e-12);
+  EXPECT_NEAR(w.terms[2].score, 50.0, 1e-12);
+  EXPECT_NEAR(w.score, (2 * 50.0 + 70.0 + 50.0) / 4.0, 1e-12);
+  EXPECT_TRUE(w.passed);
+}
+
+TEST(Scoring, TimeInADangerZoneCostsPoints) {
+  Metrics clean;
+  clean.set("nucleus_removed_fraction", 0.3);
+  clean.set("peak_bending_moment_Nm", 0.06);
+  clean.set("zone_dwell_s", 0.0);
+  clean.set("overload_events", 0);
+  Metrics zone = clean;
+  zone.set("zone_dwell_s", 1.7);
+  const double a = score_attempt(clean, safety_rubric()).score;
+  const double b = score_attempt(zone, safety_rubric()).score;
+  EXPECT_NEAR(a - b, 34.0 / 4.0, 1e-9);  // 50 -> 16 on a term of weight 1 out of 4
+}
+
+TEST(Scoring, AGateOnOneZoneMetric) {
+  Rubric r = rubric();
+  r.gates.push_back({"zone.spinal_cord_pll.inside_s", 0.0});
+  Metrics m;
+  m.set("removed", 0.9);
+  m.set("force", 0.1);
+  m.set("overloads", 0);
+  m.set("zone.spinal_cord_pll.inside_s", 1.7);
+  const ScoreResult s = score_attempt(m, r);
+  EXPECT_FALSE(s.passed);
+  ASSERT_EQ(s.gates.size(), 2u);
+  EXPECT_FALSE(s.gates[1].passed);
+  ASSERT_EQ(s.reasons.size(), 1u);
+  EXPECT_NE(s.reasons[0].find("zone.spinal_cord_pll.inside_s = 1.7 is above its limit 0"),
+            std::string::npos)
+      << s.reasons[0];
+}
+
+}  // namespace
+}  // namespace acdr

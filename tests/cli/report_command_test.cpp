@@ -67,5 +67,63 @@ TEST(ReportCommand, ReportsEachFormatAndShowsInterruptedAttemptsAsAborted) {
   }
 }
 
+// A trainee or module the record does not hold is a mistake to report, with what it holds.
+TEST(ReportCommand, UnknownTraineeOrModuleIsAClearUsageError) {
+  test::TempDir dir;
+  const std::string path = dir.file("record.sqlite");
+  {
+    Database db = test::open_or_fail(path);
+    test::register_curriculum(db, 2);
+    test::add_attempt(db, "alice", "m1", 80, true, test::minute(0));
+  }
+  ReportOptions options;
+  options.db_path = path;
+  options.trainee = "bob";
+  std::ostringstream out, err;
+  EXPECT_EQ(run_report(options, out, err), 2);
+  EXPECT_EQ(err.str(), "acdr report: no trainee 'bob' in " + path + " (trainees: alice)\n");
+  EXPECT_TRUE(out.str().empty());
+
+  options.trainee.reset();
+  options.module = "m9";
+  std::ostringstream out2, err2;
+  EXPECT_EQ(run_report(options, out2, err2), 2);
+  EXPECT_EQ(err2.str(), "acdr report: no module 'm9' in " + path + " (modules: m1, m2)\n");
+}
+
+// CSV values are rounded to nine significant digits: a duration summed over 1 ms steps reads
+// 9.8, not 9.800000000000008.
+TEST(ReportCommand, CsvValuesAreRounded) {
+  test::TempDir dir;
+  const std::string path = dir.file("record.sqlite");
+  {
+    Database db = test::open_or_fail(path);
+    test::register_curriculum(db, 1);
+    AttemptStart start;
+    start.trainee_id = "alice";
+    start.module_id = "m1";
+    const std::int64_t id = begin_attempt(db, start).value();
+    AttemptOutcome outcome = test::make_outcome(61.20000000000001, true);
+    double t = 0.0;
+    for (int i = 0; i < 9800; ++i) t += 1e-3;  // 9.8 with the round-off of many steps
+    ASSERT_NE(t, 9.8);
+    outcome.duration_s = t;
+    outcome.metrics.set("time_over_warning_s", t);
+    outcome.metrics.set("peak_bending_moment_Nm", 0.012345678901);
+    ASSERT_TRUE(finish_attempt(db, id, outcome).ok());
+  }
+  ReportOptions options;
+  options.db_path = path;
+  options.format = "csv";
+  std::ostringstream out, err;
+  ASSERT_EQ(run_report(options, out, err), 0) << err.str();
+  const std::string csv = out.str();
+  EXPECT_EQ(csv.find("00000000"), std::string::npos) << csv;
+  EXPECT_EQ(csv.find("99999999"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",9.8,61.2,"), std::string::npos) << csv;  // duration_s, score
+  EXPECT_NE(csv.find(",0.0123456789"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",9.8"), csv.rfind(",9.8")) << "the metric is rounded too:\n" << csv;
+}
+
 }  // namespace
 }  // namespace acdr

@@ -32,12 +32,14 @@ SessionResult stored_result() {
 TEST(ResultFormat, TheSummaryListsTheScoredMetricsThenTheGates) {
   const SessionResult r = stored_result();
   const std::string s = result_summary(r, "");
-  const std::string term = "    nucleus_removed_fraction           0.05  ->  30.0 / 100\n";
+  // A term: a column for the safety mark (blank here), the metric, value, score, benchmark.
+  const std::string term = "      nucleus_removed_fraction         0.05  ->  30.0 / 100  (benchmark unknown)\n";
   const std::string gate = "    gate overload_events                  2  (max 0) FAILED\n";
   ASSERT_NE(s.find(term), std::string::npos) << s;
   ASSERT_NE(s.find(gate), std::string::npos) << s;
   EXPECT_LT(s.find(term), s.find(gate));
   EXPECT_NE(s.find("  stored as attempt 7 (completed) in record.sqlite\n"), std::string::npos);
+  EXPECT_NE(s.find("  how to read it:\n    50 = the experts' mean"), std::string::npos) << s;
   EXPECT_EQ(s.find("haptic loop"), std::string::npos);  // not a live attempt
   EXPECT_EQ(s.find("checkpoints"), std::string::npos);
   EXPECT_EQ(s.find("picture"), std::string::npos);

@@ -532,6 +532,40 @@ TEST(ScenarioLoaderErrors, ZoneMetricNamesFollowThePattern) {
   EXPECT_NE(metric->message.find("or text matching ^zone"), std::string::npos) << metric->message;
 }
 
+// Safety terms score only when the attempt did the task, so a rubric with any must say what
+// doing the task is; the bundled modules do, and gate on the danger zones.
+TEST(ScenarioLoaderErrors, SafetyTermsNeedATaskRule) {
+  const LoadResult box = load_scenario_text(box_module_text(), "box.json");
+  ASSERT_TRUE(box.ok()) << to_string(box.errors);
+  ASSERT_TRUE(box.model->rubric.task.has_value());
+  EXPECT_EQ(box.model->rubric.task->metric, "nucleus_removed_fraction");
+  EXPECT_DOUBLE_EQ(box.model->rubric.task->min, 0.04);
+  EXPECT_FALSE(box.model->rubric.terms[0].safety);
+  EXPECT_TRUE(box.model->rubric.terms[1].safety);
+
+  const std::string task = "\"task\": { \"metric\": \"nucleus_removed_fraction\", \"min\": 0.04 },";
+  const auto errors = errors_of(replace_once(box_module_text(), task, ""));
+  const ScenarioError* e = find_error(errors, "/rubric/task");
+  ASSERT_NE(e, nullptr);
+
+  const auto bad_metric = errors_of(replace_once(box_module_text(), task,
+      "\"task\": { \"metric\": \"nucleus_removed\", \"min\": 0.04 },"));
+  EXPECT_NE(find_error(bad_metric, "/rubric/task/metric"), nullptr);
+
+  for (const char* module : {"02_c4c5_healthy", "03_c4c5_degenerated", "04_full_discectomy"}) {
+    const std::string path = test::source_path(std::string("scenarios/modules/") + module + ".json");
+    const LoadResult m = load_scenario_file(path);
+    ASSERT_TRUE(m.ok()) << to_string(m.errors);
+    int safety = 0;
+    for (const RubricTerm& t : m.model->rubric.terms) safety += t.safety;
+    EXPECT_GE(safety, 4) << module << ": moment, zone dwell, zone impulse, protected material";
+    bool gates_zones = false;
+    for (const SafetyGate& g : m.model->rubric.gates) gates_zones |= g.metric == "zone_entries";
+    EXPECT_TRUE(gates_zones) << module;
+    ASSERT_TRUE(m.model->rubric.task.has_value()) << module;
+  }
+}
+
 TEST(ScenarioLoaderErrors, DuplicateKeyIsNotSilentlyCollapsed) {
   const std::string text = replace_once(box_module_text(), "\"mass_g\": 30", "\"mass_g\": 30, \"mass_g\": 40");
   const auto errors = errors_of(text);

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "engine/rigid/instrument.hpp"
@@ -196,6 +198,46 @@ TEST_F(DashboardModelTest, CsvOfEachView) {
   EXPECT_EQ(lines[0].rfind("t_s,hand_force_N,", 0), 0u);
   EXPECT_EQ(dashboard_csv_name(ben, d.get()),
             "dashboard-attempt-" + std::to_string(d->record.id) + ".csv");
+}
+
+// The progress matrix lists every module of the curriculum for every trainee, from the first
+// attempt of anyone: the record learns the curriculum from its scenario files, not from attempts.
+TEST(DashboardModelCurriculum, EveryModuleOfTheCurriculumForEveryTrainee) {
+  test::TempDir dir;
+  std::ifstream in(test::kSceneData + "empty_box.json");
+  const nlohmann::json box = nlohmann::json::parse(in);
+  std::vector<std::string> files;
+  for (int order = 1; order <= 4; ++order) {
+    nlohmann::json s = box;
+    s["id"] = "course-" + std::to_string(order);
+    s["curriculum"] = "course";
+    s["module_order"] = order;
+    files.push_back(dir.file("m" + std::to_string(order) + ".json"));
+    std::ofstream(files.back()) << s.dump(2);
+  }
+  SessionOptions o;
+  o.scenario = files[0];
+  o.input = "replay:" + test::kSceneData + "short_scoop.csv";
+  o.db = dir.file("record.sqlite");
+  o.trainee = "t-ann";
+  std::ostringstream notes;
+  ASSERT_EQ(run_attempt_session(o, nullptr, notes).end, SessionEnd::kCompleted) << notes.str();
+  o.scenario = files[2];
+  o.trainee = "t-ben";
+  EXPECT_EQ(run_attempt_session(o, nullptr, notes).end, SessionEnd::kLocked);
+  o.scenario = files[0];
+  ASSERT_EQ(run_attempt_session(o, nullptr, notes).end, SessionEnd::kCompleted) << notes.str();
+
+  Database db = test::open_or_fail(o.db);
+  auto model = load_dashboard(db);
+  ASSERT_TRUE(model) << model.error().message;
+  ASSERT_EQ(model->modules.size(), 4u);
+  ASSERT_EQ(model->trainees.size(), 2u);
+  for (const DashboardTrainee& t : model->trainees) {
+    ASSERT_EQ(t.progress.size(), 4u) << t.info.id;
+    EXPECT_EQ(t.progress[0].module_id, "course-1");
+    EXPECT_EQ(progress_state(t.progress[3]), "locked") << t.info.id;
+  }
 }
 
 }  // namespace

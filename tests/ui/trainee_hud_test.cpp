@@ -5,10 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
+#include "assessment/scoring.hpp"
 #include "scenarios/scenario_loader.hpp"
 #include "tests/ui/image_probe.hpp"
 #include "tests/ui/test_record.hpp"
 #include "ui/imgui_offscreen.hpp"
+#include "ui/png_writer.hpp"
 #include "ui/render_camera.hpp"
 #include "ui/scene_snapshot.hpp"
 
@@ -207,6 +211,59 @@ TEST(TraineeHud, ScoreScreenSaysWhatToImprove) {
   Image im{w, h, {}};
   ASSERT_TRUE(ui->render(nullptr, [&] { draw_score_screen(s, ImVec2(w, h)); }, &im.rgb, &error));
   EXPECT_GT(im.fraction(is_alert_red), 0.0005);  // NOT PASSED, FAILED
+}
+
+// The anatomical module's score screen: what happened in the zones, by the zone's name, with
+// the time and the force; the safety terms marked; the scale explained.
+TEST(TraineeHud, ScoreScreenNamesTheZoneAndExplainsTheScale) {
+  LoadResult loaded =
+      load_scenario_file(std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/02_c4c5_healthy.json");
+  ASSERT_TRUE(loaded.ok()) << to_string(loaded.errors);
+  AttemptRun run;
+  run.end = AttemptEnd::kInputEnded;
+  run.record.summary.zones = {{"vertebral_artery_left", 3e-3, 0.5, true},
+                              {"spinal_cord_pll", 1.5e-3, 0.5, true}};
+  Metrics& m = run.metrics;
+  m.set("nucleus_removed_fraction", 0.3);
+  m.set("peak_bending_moment_Nm", 0.05);
+  m.set("zone_dwell_s", 2.0);
+  m.set("zone_impulse_Ns", 1.1);
+  m.set("protected_removed_mm3", 3.0);
+  m.set("overload_events", 0);
+  m.set("zone_entries", 1);
+  m.set("zone_over_limit_events", 1);
+  m.set("never_events", 1);
+  m.set("zone.spinal_cord_pll.dwell_s", 2.0);
+  m.set("zone.spinal_cord_pll.inside_s", 1.7);
+  m.set("zone.spinal_cord_pll.peak_force_N", 1.4);
+  m.set("zone.spinal_cord_pll.entries", 1);
+  m.set("zone.spinal_cord_pll.never_event", 1);
+  run.score = score_attempt(run.metrics, loaded.model->rubric);
+  Frame last;
+  last.t_s = 35.6;
+  run.record.frames.push_back(last);
+  const ScoreScreenModel s = make_score_screen(*loaded.model, run, "Stored as attempt 7");
+  ASSERT_EQ(s.zone_findings.size(), 1u);
+  EXPECT_EQ(s.zone_findings[0].rfind("Entered the spinal cord / PLL zone for 1.7 s at up to 1.4 N", 0), 0u)
+      << s.zone_findings[0];
+  int safety_rows = 0;
+  for (const ScoreTableRow& r : s.rows) safety_rows += r.safety;
+  EXPECT_EQ(safety_rows, 4);
+  ASSERT_GE(s.scale.size(), 4u);
+  EXPECT_NE(s.scale[0].find("50 = the experts' mean"), std::string::npos) << s.scale[0];
+  EXPECT_NE(s.scale[0].find("10 points"), std::string::npos) << s.scale[0];
+  EXPECT_NE(s.scale[1].find("\"Higher is better\""), std::string::npos) << s.scale[1];
+  EXPECT_NE(s.scale[3].find("only by doing the task"), std::string::npos) << s.scale[3];
+
+  const int w = 1280, h = 800;
+  std::string error;
+  auto ui = ImGuiOffscreen::create(w, h, &error);
+  ASSERT_TRUE(ui) << error;
+  Image im{w, h, {}};
+  ASSERT_TRUE(ui->render(nullptr, [&] { draw_score_screen(s, ImVec2(w, h)); }, &im.rgb, &error));
+  EXPECT_GT(im.fraction(is_alert_red), 0.0005);
+  if (const char* out = std::getenv("ACDR_TEST_SCREENSHOTS"))
+    EXPECT_TRUE(write_png_rgb(std::string(out) + "/score_screen_zone.png", w, h, im.rgb, &error)) << error;
 }
 
 }  // namespace
