@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "db/outbox.hpp"
 #include "db/recording_codec.hpp"
 #include "db/utc_time.hpp"
 #include "db/uuid.hpp"
@@ -520,7 +521,8 @@ DbStatus append_checkpoint(Database& db, std::int64_t attempt_id,
   return tx->commit();
 }
 
-DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome) {
+DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome,
+                        const XapiOptions& xapi) {
   std::string ended = outcome.ended_utc;
   if (ended.empty()) {
     ended = utc_now_text();
@@ -561,6 +563,8 @@ DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutc
     return b;
   }
   if (DbStatus r = s->run(); !r) return r;
+  // Its statements wait in the outbox from the same commit on.
+  if (DbResult<int> q = queue_attempt_statements(db, attempt_id, xapi); !q) return q.error();
   return tx->commit();
 }
 
