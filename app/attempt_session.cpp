@@ -125,7 +125,7 @@ bool wait_for_bridge(UdpDevice& udp, const SessionOptions& options, Database& db
 // empty string.
 std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run,
                       const World& world, const std::string& record_path,
-                      std::string* stored_as) {
+                      const XapiOptions& xapi, std::string* stored_as) {
   if (run.end == AttemptEnd::kStopped) {
     *stored_as = "aborted";
     if (auto aborted = abort_attempt(db, attempt_id, "stopped before the end by the trainee");
@@ -150,7 +150,7 @@ std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& r
   }
   outcome.recording = std::move(recording);
   *stored_as = "completed";
-  if (auto stored = finish_attempt(db, attempt_id, outcome); !stored)
+  if (auto stored = finish_attempt(db, attempt_id, outcome, xapi); !stored)
     return stored.error().message;
   return {};
 }
@@ -235,6 +235,15 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
     }
   }
   auto* udp = dynamic_cast<UdpDevice*>(device.get());
+  // Where statements go and which IRIs they carry: a broken configuration is reported before
+  // the attempt rather than after it.
+  const LrsConfigLoad lrs = load_lrs_config(options.lrs_config);
+  if (!lrs.ok()) {
+    refuse(result, lrs.error);
+    return result;
+  }
+  XapiOptions xapi;
+  if (!lrs.config.activity_iri_base.empty()) xapi.base_iri = lrs.config.activity_iri_base;
 
   // The record, then the device's first packet.
   auto db = begin_in_record(options, scenario, result);
@@ -258,7 +267,7 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
 
   // The record again: stored before the score shows, so closing the score screen loses nothing.
   const std::string store_error = store_run(*db, result.attempt_id, result.run, world,
-                                            options.record, &result.stored_as);
+                                            options.record, xapi, &result.stored_as);
   if (view && result.run.end != AttemptEnd::kStopped)
     view->show_score(result.run,
                      store_error.empty()
@@ -272,6 +281,13 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   result.end = result.run.end == AttemptEnd::kNumericalFailure ? SessionEnd::kNumericalFailure
                : result.run.end == AttemptEnd::kStopped        ? SessionEnd::kAbandoned
                                                                 : SessionEnd::kCompleted;
+  // Stored first; now, when asked, one pass over the outbox without waiting for an
+  // unreachable store (what does not go now waits for `acdr send` or the next attempt).
+  if (lrs.config.send_after_attempt) {
+    DeliveryOptions once;
+    once.retry_for_s = 0.0;
+    result.delivery = deliver_outbox(*db, lrs.config, once);
+  }
   return result;
 }
 
