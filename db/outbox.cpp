@@ -56,6 +56,7 @@ DbResult<int> insert_statements(Database& db, const std::vector<XapiStatement>& 
                      r.error().sqlite_code};
     }
     added += db.changes();
+    if (DbStatus r = s->reset(); !r) return r.error();
   }
   return added;
 }
