@@ -262,8 +262,10 @@ TEST_F(LrsDeliveryTest, LearningLockersStatementsServiceGetsEveryStatementOnce) 
   const HttpResponse response = http.send(get);
   ASSERT_TRUE(response.answered) << response.error;
   ASSERT_EQ(response.status, 200) << response.body;
+  const nlohmann::json body = nlohmann::json::parse(response.body);
+  ASSERT_EQ(body["more"], "") << "all statements in one page";
   std::multiset<std::string> held;
-  for (const nlohmann::json& st : nlohmann::json::parse(response.body)["statements"]) {
+  for (const nlohmann::json& st : body["statements"]) {
     held.insert(st["id"].get<std::string>());
   }
   EXPECT_EQ(held, std::multiset<std::string>(queued_ids_.begin(), queued_ids_.end()));
