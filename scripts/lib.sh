@@ -45,7 +45,8 @@ acdr_install_test_lrs() {
     return 0
   fi
   echo "==> installing the test LRS packages (npm ci in tests/lrs)"
-  (cd "$dir" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+  (cd "$dir" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error) ||
+    echo "warning: npm ci in tests/lrs failed: the xAPI sending tests will be skipped (they say why)"
 }
 
 acdr_build() {
