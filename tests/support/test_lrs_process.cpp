@@ -52,6 +52,9 @@ int free_port() {
 // pipes: a server that logs every request must not die of a closed pipe).
 pid_t spawn(const std::vector<std::string>& argv, const std::vector<std::string>& env,
             const std::string& out, const std::string& err) {
+  // A restarted store writes to the same file: the old "listening" line must be gone before
+  // anyone looks for the new one.
+  std::remove(out.c_str());
   const pid_t pid = fork();
   if (pid == 0) {
     const int out_fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
