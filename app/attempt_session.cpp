@@ -154,7 +154,8 @@ bool wait_for_bridge(UdpDevice& udp, const SessionOptions& options, Database& db
 // empty string.
 std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run,
                       const World& world, const std::string& record_path,
-                      double patience_s, std::string* stored_as, std::string* unsaved_file) {
+                      double patience_s, const XapiOptions& xapi, std::string* stored_as,
+                      std::string* unsaved_file) {
   if (run.end == AttemptEnd::kStopped) {
     *stored_as = "aborted";
     if (auto aborted = abort_attempt(db, attempt_id, "stopped before the end by the trainee");
@@ -179,7 +180,7 @@ std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& r
   }
   outcome.recording = std::move(recording);
   const FinalRecord stored = finish_attempt_or_keep(db, attempt_id, std::move(outcome),
-                                                    patience_s);
+                                                    patience_s, xapi);
   *stored_as = stored.stored ? "completed" : "not written";
   *unsaved_file = stored.side_file;
   return stored.error;
@@ -265,6 +266,15 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
     }
   }
   auto* udp = dynamic_cast<UdpDevice*>(device.get());
+  // Where statements go and which IRIs they carry: a broken configuration is reported before
+  // the attempt rather than after it.
+  const LrsConfigLoad lrs = load_lrs_config(options.lrs_config);
+  if (!lrs.ok()) {
+    refuse(result, lrs.error);
+    return result;
+  }
+  XapiOptions xapi;
+  if (!lrs.config.activity_iri_base.empty()) xapi.base_iri = lrs.config.activity_iri_base;
 
   // The record, then the device's first packet.
   auto db = begin_in_record(options, scenario, result, notes);
@@ -289,7 +299,7 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   // The record again: stored before the score shows, so closing the score screen loses nothing.
   const std::string store_error =
       store_run(*db, result.attempt_id, result.run, world, options.record,
-                options.store_patience_s, &result.stored_as, &result.unsaved_file);
+                options.store_patience_s, xapi, &result.stored_as, &result.unsaved_file);
   const std::string kept =
       result.unsaved_file.empty()
           ? std::string()
@@ -311,6 +321,13 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   result.end = result.run.end == AttemptEnd::kNumericalFailure ? SessionEnd::kNumericalFailure
                : result.run.end == AttemptEnd::kStopped        ? SessionEnd::kAbandoned
                                                                 : SessionEnd::kCompleted;
+  // Stored first; now, when asked, one pass over the outbox without waiting for an
+  // unreachable store (what does not go now waits for `acdr send` or the next attempt).
+  if (lrs.config.send_after_attempt) {
+    DeliveryOptions once;
+    once.retry_for_s = 0.0;
+    result.delivery = deliver_outbox(*db, lrs.config, once);
+  }
   return result;
 }
 

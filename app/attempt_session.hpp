@@ -17,6 +17,7 @@
 
 #include "app/attempt_runner.hpp"
 #include "app/attempt_view.hpp"
+#include "app/lrs_delivery.hpp"
 #include "app/live_attempt_checkpoints.hpp"
 #include "engine/devices/haptic_loop.hpp"
 #include "engine/devices/udp_device.hpp"
@@ -56,6 +57,10 @@ struct SessionOptions {
   double store_patience_s = 10.0;
   /// No progress notes (waiting for the bridge); warnings still come.
   bool quiet = false;
+  /// The LRS configuration file (net/lrs_config.hpp); none: $ACDR_LRS_CONFIG or the XDG
+  /// default, and the environment. Its IRI base goes into the queued statements; with
+  /// send_after_attempt the outbox is sent once the attempt is stored.
+  std::optional<std::string> lrs_config;
 };
 
 /// How the session ended.
@@ -101,6 +106,7 @@ struct SessionResult {
   std::string unsaved_file;  ///< kRecordNotWritten: the side file keeping the result
   std::optional<HapticsReport> haptics;         ///< a live attempt (window, bridge)
   std::optional<CheckpointReport> checkpoints;  ///< a live attempt's checkpoint writer
+  std::optional<DeliveryReport> delivery;  ///< the outbox sent after the attempt, when asked
 
   /// The attempt ran and was stored.
   bool ran() const { return end != SessionEnd::kBadInput && end != SessionEnd::kLocked; }

@@ -10,6 +10,7 @@
 #include "cli/render_command.hpp"
 #include "cli/report_command.hpp"
 #include "cli/rescore_command.hpp"
+#include "cli/send_command.hpp"
 #include "cli/run_command.hpp"
 #include "cli/stress_command.hpp"
 #include "cli/validate_command.hpp"
@@ -61,6 +62,10 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   run_cmd->add_flag("--realtime", run.realtime,
                     "Ask for real-time priority for the haptic loop (needs the privilege)");
+  run_cmd->add_option("--lrs-config", run.lrs_config,
+                      "LRS configuration file: IRI base of the queued statements, and sending "
+                      "after the attempt when it says so (default: $ACDR_LRS_CONFIG or "
+                      "~/.config/acdr/lrs.json, and the environment)");
   run_cmd->add_option("--screenshot", run.screenshot,
                       "Window: save a picture of the trainee view (PNG)");
   run_cmd->add_option("--screenshot-at", run.screenshot_at_s,
@@ -140,7 +145,30 @@ int main(int argc, char** argv) {
   report_cmd->add_option("--module", report.module, "Only this module");
   report_cmd->add_option("--format", report.format, "table, csv, json or xapi")
       ->check(CLI::IsMember({"table", "csv", "json", "xapi"}));
+  report_cmd->add_option("--config", report.lrs_config,
+                         "xapi: LRS configuration file for the activity IRI base (default: "
+                         "$ACDR_LRS_CONFIG or ~/.config/acdr/lrs.json; ACDR_XAPI_IRI_BASE wins)");
   report_cmd->callback([&] { code = acdr::run_report(report, std::cout, std::cerr); });
+
+  // acdr send
+  acdr::SendOptions send;
+  auto* send_cmd = app.add_subcommand(
+      "send", "Send the record's queued xAPI statements to the learning record store");
+  send_cmd->add_option("--db", send.db_path, "Database file");
+  send_cmd->add_option("--config", send.config,
+                       "LRS configuration file (default: $ACDR_LRS_CONFIG or "
+                       "~/.config/acdr/lrs.json; ACDR_LRS_ENDPOINT, ACDR_LRS_KEY, "
+                       "ACDR_LRS_SECRET, ACDR_XAPI_IRI_BASE override it)");
+  send_cmd->add_option("--retry-for", send.retry_for_s,
+                       "Seconds to keep retrying (with doubling pauses) while the store cannot "
+                       "be reached (default 60; 0: one try)")
+      ->check(CLI::NonNegativeNumber);
+  send_cmd->add_flag("--queue-existing", send.queue_existing,
+                     "First queue the statements of stored attempts that are not in the "
+                     "outbox yet (records from before it)");
+  send_cmd->add_flag("--retry-failed", send.retry_failed,
+                     "First queue again the statements the store refused");
+  send_cmd->callback([&] { code = acdr::run_send(send, std::cout, std::cerr); });
 
   // acdr verify
   acdr::VerifyOptions verify;

@@ -8,6 +8,7 @@
 #include "db/catalog.hpp"
 #include "db/database.hpp"
 #include "db/report.hpp"
+#include "net/lrs_config.hpp"
 
 namespace acdr {
 
@@ -67,7 +68,19 @@ int run_report(const ReportOptions& options, std::ostream& out, std::ostream& er
   request.module_id = options.module;
   request.format = *format;
   request.include_practice = options.include_practice;
-  if (!options.xapi_base_iri.empty()) request.xapi.base_iri = options.xapi_base_iri;
+  if (!options.xapi_base_iri.empty()) {
+    request.xapi.base_iri = options.xapi_base_iri;
+  } else if (*format == ReportFormat::kXapi) {
+    // The same IRI base as the statements queued for the record store.
+    const LrsConfigLoad lrs = load_lrs_config(options.lrs_config);
+    if (!lrs.ok()) {
+      err << "acdr report: " << lrs.error << '\n';
+      return 2;
+    }
+    if (!lrs.config.activity_iri_base.empty()) {
+      request.xapi.base_iri = lrs.config.activity_iri_base;
+    }
+  }
   if (!options.xapi_account_home_page.empty()) {
     request.xapi.account_home_page = options.xapi_account_home_page;
   }

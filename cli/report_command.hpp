@@ -17,6 +17,9 @@ struct ReportOptions {
   bool include_practice = true;        ///< practice attempts in table/csv/json
   std::string xapi_base_iri;           ///< empty: XapiOptions' default
   std::string xapi_account_home_page;  ///< empty: XapiOptions' default
+  /// xapi: the LRS configuration file whose activity_iri_base is used when xapi_base_iri is
+  /// empty (else $ACDR_LRS_CONFIG, the XDG default, ACDR_XAPI_IRI_BASE; net/lrs_config.hpp).
+  std::optional<std::string> lrs_config;
 };
 
 /// Writes the report to `out`; problems go to `err` as one line each. Returns the process exit

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/score_table.hpp"
+#include "cli/send_command.hpp"
 #include "assessment/metric_catalog.hpp"
 #include "assessment/zone_findings.hpp"
 #include "engine/core/state_hash.hpp"
@@ -144,6 +145,15 @@ nlohmann::json result_json(const SessionResult& result, const std::string& png_p
   j["db"] = result.db_path;
   if (!result.unsaved_file.empty()) j["unsaved_file"] = result.unsaved_file;
   if (!png_path.empty()) j["png"] = png_path;
+  if (result.delivery) {
+    const DeliveryReport& d = *result.delivery;
+    j["lrs"] = {{"endpoint", d.endpoint},
+                {"stored", d.stored},
+                {"already_stored", d.already_stored},
+                {"refused", d.rejected},
+                {"queued", d.left.queued},
+                {"stopped", d.stopped.empty() ? d.record_error : d.stopped}};
+  }
   if (result.checkpoints) {
     // What the checkpoints cost: on the writer thread per checkpoint, and on the physics
     // thread per hand-over (haptics.physics has the physics loop's step times).
@@ -267,6 +277,7 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
   if (!result.unsaved_file.empty())
     s += "  result kept in " + result.unsaved_file + " until the record can be written\n";
   if (!png_path.empty()) s += "  picture of the final frame: " + png_path + "\n";
+  if (result.delivery) s += "  xAPI statements " + delivery_summary(*result.delivery);
   if (result.checkpoints) {
     const LiveCheckpointStats& k = result.checkpoints->stats;
     std::snprintf(line, sizeof line,

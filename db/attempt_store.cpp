@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "db/outcome_side_file.hpp"
+#include "db/outbox.hpp"
 #include "db/recording_codec.hpp"
 #include "db/utc_time.hpp"
 #include "db/uuid.hpp"
@@ -532,7 +533,8 @@ DbStatus append_checkpoint(Database& db, std::int64_t attempt_id,
   return tx->commit();
 }
 
-DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome) {
+DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome,
+                        const XapiOptions& xapi) {
   std::string ended = outcome.ended_utc;
   if (ended.empty()) {
     ended = utc_now_text();
@@ -573,11 +575,14 @@ DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutc
     return b;
   }
   if (DbStatus r = s->run(); !r) return r;
+  // Its statements wait in the outbox from the same commit on.
+  if (DbResult<int> q = queue_attempt_statements(db, attempt_id, xapi); !q) return q.error();
   return tx->commit();
 }
 
 DbStatus finish_attempt_patiently(Database& db, std::int64_t attempt_id,
-                                  const AttemptOutcome& outcome, double patience_s) {
+                                  const AttemptOutcome& outcome, double patience_s,
+                                  const XapiOptions& xapi) {
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration<double>(std::max(0.0, patience_s));
   const int usual_timeout_ms = db.busy_timeout_ms();
@@ -586,7 +591,7 @@ DbStatus finish_attempt_patiently(Database& db, std::int64_t attempt_id,
     const double left_s = std::chrono::duration<double>(deadline - Clock::now()).count();
     db.set_busy_timeout_ms(static_cast<int>(std::clamp(left_s * 1000.0, 0.0,
                                                        static_cast<double>(usual_timeout_ms))));
-    DbStatus stored = finish_attempt(db, attempt_id, outcome);
+    DbStatus stored = finish_attempt(db, attempt_id, outcome, xapi);
     db.set_busy_timeout_ms(usual_timeout_ms);
     const int primary = stored ? 0 : (stored.error().sqlite_code & 0xff);
     const bool worth_retrying =

@@ -17,6 +17,7 @@
 
 #include "db/database.hpp"
 #include "db/records.hpp"
+#include "db/xapi.hpp"
 
 namespace acdr {
 
@@ -54,14 +55,18 @@ DbStatus append_checkpoint(Database& db, std::int64_t attempt_id,
 /// Stores metrics, score (with terms, gates, reasons), all events and the recording, sets the
 /// end time and status `completed` — all in ONE transaction: after a crash the attempt is either
 /// completed with everything or still as before. Only a `running` attempt can be finished.
-/// A recording given here replaces any checkpointed pieces.
-DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome);
+/// A recording given here replaces any checkpointed pieces. A trainee attempt's xAPI
+/// statements (IRIs from `xapi`) are queued in the outbox in the same transaction
+/// (outbox.hpp): store first, send after.
+DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutcome& outcome,
+                        const XapiOptions& xapi = {});
 
 /// finish_attempt, waiting for another connection's lock and trying again while the database
 /// is busy or locked (or full: space may come back) for up to `patience_s` in all. Other
 /// errors are returned at once.
 DbStatus finish_attempt_patiently(Database& db, std::int64_t attempt_id,
-                                  const AttemptOutcome& outcome, double patience_s);
+                                  const AttemptOutcome& outcome, double patience_s,
+                                  const XapiOptions& xapi = {});
 
 /// Ends a running attempt as `aborted` on purpose (the trainee quit), keeping what was
 /// checkpointed; `reason` is stored.

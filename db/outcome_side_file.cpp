@@ -512,14 +512,14 @@ UnsavedReplay store_unsaved_outcomes(Database& db) {
 }
 
 FinalRecord finish_attempt_or_keep(Database& db, std::int64_t attempt_id, AttemptOutcome outcome,
-                                   double patience_s) {
+                                   double patience_s, const XapiOptions& xapi) {
   FinalRecord result;
   // The end is now, whenever the record is finally written; the uuid (a read, which another
   // connection's write lock does not block in WAL mode) ties the side file to this attempt.
   if (outcome.ended_utc.empty()) outcome.ended_utc = utc_now_text();
   std::string uuid;
   if (auto row = attempt_identity(db, attempt_id); row && row.value()) uuid = row.value()->uuid;
-  const DbStatus stored = finish_attempt_patiently(db, attempt_id, outcome, patience_s);
+  const DbStatus stored = finish_attempt_patiently(db, attempt_id, outcome, patience_s, xapi);
   if (stored) {
     result.stored = true;
     return result;

@@ -31,6 +31,7 @@
 
 #include "db/db_result.hpp"
 #include "db/records.hpp"
+#include "db/xapi.hpp"
 
 namespace acdr {
 
@@ -88,8 +89,8 @@ struct FinalRecord {
 
 /// Stores a finished attempt: finish_attempt_patiently (attempt_store.hpp) for up to
 /// `patience_s`; when the record still cannot be written, the outcome (with its end time) goes
-/// to the side file, to be stored at the next start.
+/// to the side file, to be stored at the next start. `xapi` as for finish_attempt.
 FinalRecord finish_attempt_or_keep(Database& db, std::int64_t attempt_id, AttemptOutcome outcome,
-                                   double patience_s);
+                                   double patience_s, const XapiOptions& xapi = {});
 
 }  // namespace acdr

@@ -198,10 +198,34 @@ CREATE TABLE recording_chunks (
 ) STRICT;
 )sql";
 
+// v3: the outbox of xAPI statements for a learning record store (db/outbox.hpp). Finishing an
+// attempt queues its statements in the same transaction; a sender marks them sent (or failed,
+// with the store's answer) later. The statement text is kept as queued: what is sent is what
+// was stored, even if the attempt is re-scored afterwards.
+constexpr const char* kSchemaV3 = R"sql(
+CREATE TABLE xapi_outbox (
+  id           INTEGER PRIMARY KEY,
+  statement_id TEXT NOT NULL UNIQUE CHECK (length(statement_id) = 36),
+  attempt_id   INTEGER NOT NULL REFERENCES attempts(id) ON DELETE CASCADE,
+  statement    TEXT NOT NULL CHECK (json_valid(statement)),
+  queued_utc   TEXT NOT NULL,
+  state        TEXT NOT NULL DEFAULT 'queued' CHECK (state IN ('queued', 'sent', 'failed')),
+  tries        INTEGER NOT NULL DEFAULT 0 CHECK (tries >= 0),
+  last_try_utc TEXT,
+  last_error   TEXT NOT NULL DEFAULT '',
+  sent_utc     TEXT,
+  sent_to      TEXT NOT NULL DEFAULT '',
+  CHECK (state <> 'sent' OR sent_utc IS NOT NULL)
+) STRICT;
+CREATE INDEX xapi_outbox_queued ON xapi_outbox(id) WHERE state = 'queued';
+CREATE INDEX xapi_outbox_by_attempt ON xapi_outbox(attempt_id);
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "training record v1: trainees, curricula, modules, attempts, metrics, events, recordings",
      kSchemaV1},
     {2, "events with NULL zone and zone index; recording chunks for checkpoints", kSchemaV2},
+    {3, "outbox of xAPI statements for a learning record store", kSchemaV3},
 };
 
 static_assert(std::size(kMigrations) == kSchemaVersion,

@@ -82,11 +82,19 @@ std::string xapi_metric_iri(const XapiOptions& options, const std::string& metri
   return with_slash(options.base_iri) + "metrics/" + percent_encode(metric_name);
 }
 
-std::string xapi_statements_json(const std::vector<AttemptRecord>& attempts,
-                                 const std::map<std::string, ModuleRecord>& modules,
-                                 const XapiOptions& options) {
+namespace {
+
+// One built statement and the uuid of the attempt it reports.
+struct BuiltStatement {
+  std::string attempt_uuid;
+  Json statement;
+};
+
+std::vector<BuiltStatement> build_statements(const std::vector<AttemptRecord>& attempts,
+                                             const std::map<std::string, ModuleRecord>& modules,
+                                             const XapiOptions& options) {
   const std::string base = with_slash(options.base_iri);
-  Json statements = Json::array();
+  std::vector<BuiltStatement> statements;
   std::set<std::pair<std::string, std::string>> passed_registrations;  // (registration, module)
 
   for (const AttemptRecord& a : attempts) {
@@ -156,7 +164,8 @@ std::string xapi_statements_json(const std::vector<AttemptRecord>& attempts,
       if (!extensions.empty()) result["extensions"] = extensions;
       Json ctx = context;
       ctx["extensions"] = context_ext;
-      statements.push_back(make_statement(kVerbScored, "scored", std::move(result), ctx));
+      statements.push_back(
+          {a.uuid, make_statement(kVerbScored, "scored", std::move(result), ctx)});
     }
 
     // 2. passed (once per registration and module) or failed.
@@ -180,9 +189,34 @@ std::string xapi_statements_json(const std::vector<AttemptRecord>& attempts,
           Json{{base + "extensions/fail-reasons", a.score_detail.reasons}};
     }
     ctx["extensions"] = ext;
-    statements.push_back(passed
-                             ? make_statement(kVerbPassed, "passed", std::move(result), ctx)
-                             : make_statement(kVerbFailed, "failed", std::move(result), ctx));
+    statements.push_back(
+        {a.uuid, passed ? make_statement(kVerbPassed, "passed", std::move(result), ctx)
+                        : make_statement(kVerbFailed, "failed", std::move(result), ctx)});
+  }
+  return statements;
+}
+
+}  // namespace
+
+std::vector<XapiStatement> xapi_statements(const std::vector<AttemptRecord>& attempts,
+                                           const std::map<std::string, ModuleRecord>& modules,
+                                           const XapiOptions& options) {
+  std::vector<XapiStatement> out;
+  for (BuiltStatement& built : build_statements(attempts, modules, options)) {
+    out.push_back(XapiStatement{built.statement["id"].get<std::string>(),
+                                std::move(built.attempt_uuid),
+                                built.statement.dump(-1, ' ', false,
+                                                     Json::error_handler_t::replace)});
+  }
+  return out;
+}
+
+std::string xapi_statements_json(const std::vector<AttemptRecord>& attempts,
+                                 const std::map<std::string, ModuleRecord>& modules,
+                                 const XapiOptions& options) {
+  Json statements = Json::array();
+  for (BuiltStatement& built : build_statements(attempts, modules, options)) {
+    statements.push_back(std::move(built.statement));
   }
   // Invalid UTF-8 in stored text must not abort the export: replace it with U+FFFD.
   return statements.dump(2, ' ', false, Json::error_handler_t::replace);

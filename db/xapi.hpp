@@ -45,6 +45,19 @@ std::string xapi_activity_iri(const XapiOptions& options, const std::string& mod
 /// The result-extension IRI of a metric: base_iri + "metrics/" + percent-encoded name.
 std::string xapi_metric_iri(const XapiOptions& options, const std::string& metric_name);
 
+/// One statement of the export: its id, the attempt it reports and its JSON (one line).
+struct XapiStatement {
+  std::string id;            ///< the statement id (a v5 UUID from the attempt and the verb)
+  std::string attempt_uuid;  ///< the attempt it reports
+  std::string json;          ///< the statement object, compact
+};
+
+/// The statements for `attempts`, one by one, in the order of xapi_statements_json (same
+/// preconditions).
+std::vector<XapiStatement> xapi_statements(const std::vector<AttemptRecord>& attempts,
+                                           const std::map<std::string, ModuleRecord>& modules,
+                                           const XapiOptions& options = {});
+
 /// The statements (a JSON array, pretty-printed) for `attempts`, which must be in start order
 /// and contain every attempt of each registration they touch (any trainee/module filter
 /// does). `modules` gives titles and pass scores by module id.

@@ -9,7 +9,7 @@ ACDR_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libbullet-dev libeigen3-dev libsqlite3-dev nlohmann-json3-dev libimgui-dev libstb-dev
   libosmesa6-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
-  libtinyobjloader-dev zlib1g-dev
+  libtinyobjloader-dev zlib1g-dev libcurl4-openssl-dev
   libcgal-dev libgmp-dev libmpfr-dev libsuitesparse-dev
   xvfb xauth
 )
@@ -28,6 +28,25 @@ acdr_install_missing() {
   fi
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+# The test learning record stores (tests/lrs: a validating endpoint built on Learning Locker's
+# xapi-validation, and Learning Locker's statements service), from npm into tests/lrs/
+# node_modules (ignored by git), as pinned by tests/lrs/package-lock.json. Only when node and
+# npm exist; without them the tests that need a store say so and are skipped.
+acdr_install_test_lrs() {
+  local dir="$ACDR_ROOT/tests/lrs"
+  if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+    echo "==> node/npm not found: the xAPI sending tests against a test LRS will be skipped"
+    return 0
+  fi
+  if [ -f "$dir/node_modules/.package-lock.json" ] &&
+     [ "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ]; then
+    return 0
+  fi
+  echo "==> installing the test LRS packages (npm ci in tests/lrs)"
+  (cd "$dir" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error) ||
+    echo "warning: npm ci in tests/lrs failed: the xAPI sending tests will be skipped (they say why)"
 }
 
 acdr_build() {

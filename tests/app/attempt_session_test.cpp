@@ -6,6 +6,7 @@
 #include "app/attempt_session.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <chrono>
 #include <filesystem>
@@ -17,9 +18,11 @@
 
 #include "db/attempt_store.hpp"
 #include "db/progression.hpp"
+#include "db/outbox.hpp"
 #include "engine/devices/trajectory.hpp"
 #include "tests/app/test_scenes.hpp"
 #include "tests/db/db_test_support.hpp"
+#include "tests/support/test_lrs_process.hpp"
 
 namespace acdr {
 namespace {
@@ -90,6 +93,49 @@ TEST(AttemptSession, AHeadlessReplayIsStoredWithItsRecording) {
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)),
                                         std::istreambuf_iterator<char>());
   EXPECT_EQ(bytes, a.recording->bytes);
+}
+
+TEST(AttemptSession, AStoredAttemptIsSentWhenTheLrsConfigurationSaysSo) {
+  if (std::string missing = test_support::test_lrs_missing(ACDR_SOURCE_DIR); !missing.empty()) {
+    GTEST_SKIP() << missing;
+  }
+  test::TempDir dir;
+  test_support::TestLrsOptions lrs_options;
+  lrs_options.source_dir = ACDR_SOURCE_DIR;
+  lrs_options.store = dir.file("lrs.jsonl");
+  std::string error;
+  test_support::LrsProcess lrs = test_support::LrsProcess::start_test_lrs(lrs_options, &error);
+  ASSERT_TRUE(lrs.running()) << error;
+  const std::string config = dir.file("lrs.json");
+  std::ofstream(config) << R"({"endpoint": ")" << lrs.endpoint() << R"(", "key": ")"
+                        << lrs_options.key << R"(", "secret": ")" << lrs_options.secret
+                        << R"(", "activity_iri_base": "https://training.example.org/acdr/",
+                        "send_after_attempt": true})";
+  chmod(config.c_str(), 0600);
+
+  SessionOptions o = replay_options(dir, test::kSceneData + "short_scoop.csv");
+  o.trainee = "t1";
+  o.lrs_config = config;
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, nullptr, notes);
+  ASSERT_TRUE(r.ran()) << r.error;
+  ASSERT_TRUE(r.delivery);
+  EXPECT_TRUE(r.delivery->emptied()) << r.delivery->stopped;
+  EXPECT_EQ(r.delivery->stored, 2);  // scored, and passed or failed
+  EXPECT_EQ(test_support::stored_ids(lrs_options.store).size(), 2u);
+  Database db = test::open_or_fail(o.db);
+  for (const OutboxItem& item : list_outbox(db).value()) {
+    EXPECT_EQ(item.state, OutboxState::kSent);
+    EXPECT_NE(item.statement.find("https://training.example.org/acdr/modules/no-nucleus-box"),
+              std::string::npos);
+  }
+
+  // A broken configuration is refused before anything is stored.
+  std::ofstream(config) << R"({"endpoint": "ftp://lrs.example.org/"})";
+  const SessionResult refused = run_attempt_session(o, nullptr, notes);
+  EXPECT_EQ(refused.end, SessionEnd::kBadInput);
+  EXPECT_NE(refused.error.find("http:// or https://"), std::string::npos) << refused.error;
+  EXPECT_EQ(list_attempts(db).value().size(), 1u);
 }
 
 TEST(AttemptSession, BadFilesAndInputsAreRefusedBeforeTheRecordIsOpened) {

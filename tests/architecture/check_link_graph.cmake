@@ -4,7 +4,8 @@
 #    bench's own programs and tests (BENCH_OWN);
 #  - no engine target (ENGINE_TARGETS) reaches JSON, SQLite or a screen library, directly or
 #    through what it links;
-#  - the application layer (acdr_app) reaches neither the views (acdr_ui) nor a screen library.
+#  - the application layer (acdr_app) reaches neither the views (acdr_ui) nor a screen library;
+#  - the training record (acdr_db) reaches no network library (sending is the app's business).
 #   cmake -DSOURCE_DIR=... -DWORK_DIR=... -DGENERATOR=... -DENGINE_TARGETS=... -DBENCH_OWN=...
 #         -P check_link_graph.cmake
 cmake_minimum_required(VERSION 3.25)
@@ -61,7 +62,7 @@ endfunction()
 
 set(violations "")
 set(screen "PkgConfig::OSMESA;PkgConfig::IMGUI;PkgConfig::GLFW;PkgConfig::STB;OpenGL::GL")
-set(formats "nlohmann_json::nlohmann_json;SQLite::SQLite3")
+set(formats "nlohmann_json::nlohmann_json;SQLite::SQLite3;CURL::libcurl")
 
 foreach(t IN LISTS targets)
   string(MAKE_C_IDENTIFIER "${t}" id)
@@ -86,6 +87,13 @@ endif()
 foreach(lib IN LISTS screen ITEMS acdr_ui acdr_cli acdr_bench)
   if(lib IN_LIST reached)
     string(APPEND violations "  acdr_app reaches ${lib} (the application layer has no screen)\n")
+  endif()
+endforeach()
+
+reachable(acdr_db reached)
+foreach(lib IN ITEMS acdr_net CURL::libcurl)
+  if(lib IN_LIST reached)
+    string(APPEND violations "  acdr_db reaches ${lib} (the record knows no network)\n")
   endif()
 endforeach()
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -126,4 +127,39 @@ TEST(ReportCommand, CsvValuesAreRounded) {
 }
 
 }  // namespace
+TEST(ReportCommand, XapiTakesTheActivityIriBaseFromTheLrsConfiguration) {
+  test::TempDir dir;
+  const std::string path = dir.file("record.sqlite");
+  {
+    Database db = test::open_or_fail(path);
+    test::register_curriculum(db, 1);
+    test::add_attempt(db, "t1", "m1", 80, true, test::minute(0));
+  }
+  unsetenv("ACDR_XAPI_IRI_BASE");
+  unsetenv("ACDR_LRS_CONFIG");
+  const std::string config = dir.file("lrs.json");
+  std::ofstream(config) << R"({"activity_iri_base": "https://training.example.org/acdr/"})";
+  ReportOptions options;
+  options.db_path = path;
+  options.format = "xapi";
+  options.lrs_config = config;
+  std::ostringstream out, err;
+  ASSERT_EQ(run_report(options, out, err), 0) << err.str();
+  for (const auto& st : nlohmann::json::parse(out.str())) {
+    EXPECT_EQ(st["object"]["id"], "https://training.example.org/acdr/modules/m1");
+  }
+  // The environment wins over the file.
+  setenv("ACDR_XAPI_IRI_BASE", "https://other.example.org/", 1);
+  std::ostringstream out2, err2;
+  ASSERT_EQ(run_report(options, out2, err2), 0) << err2.str();
+  unsetenv("ACDR_XAPI_IRI_BASE");
+  EXPECT_EQ(nlohmann::json::parse(out2.str())[0]["object"]["id"],
+            "https://other.example.org/modules/m1");
+  // A bad base is refused with the file named.
+  std::ofstream(config) << R"({"activity_iri_base": "acdr"})";
+  std::ostringstream out3, err3;
+  EXPECT_EQ(run_report(options, out3, err3), 2);
+  EXPECT_NE(err3.str().find(config), std::string::npos) << err3.str();
+}
+
 }  // namespace acdr

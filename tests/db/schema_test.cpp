@@ -25,7 +25,8 @@ TEST(Schema, EveryEntityHasItsTable) {
   Database db = test::open_or_fail(dir.file("record.sqlite"));
   for (const char* table : {"trainees", "curricula", "modules", "module_prerequisites",
                             "attempts", "metrics", "events", "recordings", "score_terms",
-                            "score_gates", "score_reasons", "recording_chunks"}) {
+                            "score_gates", "score_reasons", "recording_chunks",
+                            "xapi_outbox"}) {
     DbResult<Statement> s = db.prepare("SELECT count(*) FROM sqlite_schema WHERE name = ?");
     ASSERT_TRUE(s->bind_all(table).ok());
     ASSERT_TRUE(s->step().value());
@@ -107,6 +108,7 @@ TEST(Schema, MigratesAVersion1RecordKeepingItsEvents) {
   // '' is no longer a zone name the table accepts: "no zone" has one spelling.
   EXPECT_FALSE(db.exec("INSERT INTO events (attempt_id, seq, kind, zone) VALUES (1, 2, 'x', '')").ok());
   EXPECT_TRUE(db.exec("SELECT count(*) FROM recording_chunks").ok());
+  EXPECT_TRUE(db.exec("SELECT count(*) FROM xapi_outbox").ok());  // v3, in the same opening
 }
 
 }  // namespace

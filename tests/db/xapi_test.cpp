@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <cmath>
+#include <fstream>
+#include <limits>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -12,6 +15,7 @@
 #include "db/report.hpp"
 #include "db/uuid.hpp"
 #include "tests/db/db_test_support.hpp"
+#include "tests/support/test_lrs_process.hpp"
 
 namespace acdr {
 namespace {
@@ -160,6 +164,44 @@ TEST_F(XapiTest, GateFailureAboveThePassLineDoesNotContradictMasteryScore) {
   EXPECT_EQ(failed["result"]["extensions"]["https://acdr.example/xapi/extensions/fail-reasons"]
                 [0],
             "vertebral artery breached (never-event)");
+}
+
+// What `acdr report --format xapi` exports is valid xAPI by Learning Locker's own validation
+// package (tests/lrs/test_lrs.js --validate), for every kind of attempt we export: passed,
+// failed, a repeated pass, a gate failure above the pass line, an instructor's override, a
+// metric that is not a number.
+TEST_F(XapiTest, StatementsPassLearningLockersValidation) {
+  if (std::string missing = test_support::test_lrs_missing(ACDR_SOURCE_DIR); !missing.empty()) {
+    GTEST_SKIP() << missing;
+  }
+  add_attempt(db_, "t1", "m1", 31.0, false, minute(0));
+  add_attempt(db_, "t1", "m1", 82.5, true, minute(1));
+  add_attempt(db_, "t1", "m1", 90.0, true, minute(2));
+  AttemptStart s;
+  s.trainee_id = "t2";
+  s.module_id = "m2";
+  s.override_lock = true;
+  s.override_by = "dr-adams";
+  s.override_reason = "reviewed the box module with the trainee";
+  const std::int64_t id = begin_attempt(db_, s).value();
+  AttemptOutcome o = test::make_outcome(88.0, false);
+  o.score.reasons = {"vertebral artery breached (never-event)"};
+  o.metrics.values.push_back({"zone_force_N", std::numeric_limits<double>::quiet_NaN()});
+  ASSERT_TRUE(finish_attempt(db_, id, o).ok());
+  const nlohmann::json all = statements();
+  ASSERT_EQ(all.size(), 7u);
+
+  const std::string file = dir_.file("statements.json");
+  std::ofstream(file) << all.dump(2);
+  const std::string output = dir_.file("validation.txt");
+  const std::string command = "node '" + std::string(ACDR_SOURCE_DIR) +
+                              "/tests/lrs/test_lrs.js' --validate '" + file + "' > '" + output +
+                              "' 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream in(output);
+  const std::string said(std::istreambuf_iterator<char>(in), {});
+  EXPECT_EQ(status, 0) << said;
+  EXPECT_NE(said.find("7 of 7 statements pass xapi-validation"), std::string::npos) << said;
 }
 
 TEST(XapiIri, IdsAndNamesArePercentEncoded) {
