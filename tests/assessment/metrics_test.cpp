@@ -65,7 +65,15 @@ TEST(MetricCatalog, ListsExactlyWhatComputeMetricsProduces) {
   const Metrics m = compute_metrics(AttemptRecording{});
   std::vector<std::string> produced;
   for (const auto& [name, value] : m.values) produced.push_back(name);
-  EXPECT_EQ(produced, known_metric_names());
+  std::vector<std::string> fixed;
+  for (const MetricInfo& info : metric_catalog()) fixed.push_back(info.name);
+  EXPECT_EQ(produced, fixed);
+  // The bone's follow them in the names a rubric may use.
+  std::vector<std::string> known = fixed;
+  for (const MetricInfo& info : bone_metric_catalog()) known.push_back(info.name);
+  EXPECT_EQ(known, known_metric_names());
+  EXPECT_TRUE(is_bone_metric_name("endplate_peak_stress_MPa"));
+  EXPECT_FALSE(is_bone_metric_name("peak_contact_force_N"));
 }
 
 TEST(MetricCatalog, ZoneIdsAreSafeAndUnique) {
