@@ -1,6 +1,8 @@
 // The bone's solver thread: see bone_stress_worker.hpp.
 #include "app/bone_stress_worker.hpp"
 
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 
@@ -8,6 +10,11 @@ namespace acdr {
 namespace {
 double wall_now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+double thread_cpu_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 }  // namespace
 
@@ -63,7 +70,7 @@ void BoneStressWorker::run() {
   if (!bone) error_ = why.empty() ? "the bone model could not be built" : why;
   BoneStressHistory history(config_.strengths, config_.sample_period_s);
   BoneSegmentScratch scratch;
-  double solved_ms = 0.0;
+  double solved_ms = 0.0, solved_cpu_ms = 0.0;
   std::int64_t solved_samples = 0;
   for (;;) {
     std::pair<BoneLoadRecord, double> item;
@@ -76,6 +83,7 @@ void BoneStressWorker::run() {
     }
     if (!bone) continue;  // drain: nothing to solve with
     const double start = wall_now();
+    const double cpu_start = thread_cpu_now();
     stats_.lag_s = std::max(stats_.lag_s, start - item.second);
     const BoneSampleResult r = bone->solve(item.first.t_s, item.first.points, scratch);
     history.add(r);
@@ -83,6 +91,7 @@ void BoneStressWorker::run() {
     if (r.solved[0] || r.solved[1]) {
       const double ms = (wall_now() - start) * 1e3;
       solved_ms += ms;
+      solved_cpu_ms += (thread_cpu_now() - cpu_start) * 1e3;
       ++solved_samples;
       stats_.max_sample_ms = std::max(stats_.max_sample_ms, ms);
       latest_.try_publish([&](BoneSampleResult& v) { v = r; });
@@ -91,6 +100,8 @@ void BoneStressWorker::run() {
   summary_ = history.summary();
   stats_.solves = summary_.solves;
   stats_.mean_sample_ms = solved_samples > 0 ? solved_ms / solved_samples : 0.0;
+  stats_.mean_sample_cpu_ms = solved_samples > 0 ? solved_cpu_ms / solved_samples : 0.0;
+  stats_.mean_solve_cpu_ms = stats_.solves > 0 ? solved_cpu_ms / stats_.solves : 0.0;
 }
 
 }  // namespace acdr

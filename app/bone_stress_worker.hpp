@@ -25,8 +25,12 @@ struct BoneWorkerStats {
   double build_s = 0.0;          ///< meshing or cache load, regions, factorisation
   std::int64_t samples = 0;      ///< load samples handled
   std::int64_t solves = 0;       ///< vertebra solves (loaded vertebrae)
-  double mean_sample_ms = 0.0;   ///< per sample with at least one solve
+  double mean_sample_ms = 0.0;   ///< per sample with at least one solve (wall)
   double max_sample_ms = 0.0;
+  /// The same in CPU time of the worker thread: what a sample costs one core, whatever else
+  /// the machine runs.
+  double mean_sample_cpu_ms = 0.0;
+  double mean_solve_cpu_ms = 0.0;  ///< per vertebra solve
   double lag_s = 0.0;            ///< largest wait of a sample in the queue (wall)
 };
 

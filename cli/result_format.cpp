@@ -145,6 +145,8 @@ nlohmann::json result_json(const SessionResult& result, const std::string& png_p
                  {"solves", b.solves},
                  {"mean_sample_ms", b.mean_sample_ms},
                  {"max_sample_ms", b.max_sample_ms},
+                 {"mean_sample_cpu_ms", b.mean_sample_cpu_ms},
+                 {"mean_solve_cpu_ms", b.mean_solve_cpu_ms},
                  {"max_lag_s", b.lag_s},
                  {"error", c.run.bone_error}};
   }
