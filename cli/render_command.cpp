@@ -143,6 +143,7 @@ int render_stress(const RenderOptions& o, const ScenarioModel& scenario, std::os
     caption = text;
   }
   BoneSegmentScratch scratch;
+  scratch.nodal_fields = true;
   const BoneSampleResult result = bone->solve(0.0, loads, scratch);
   if (!result.solved[0] && !result.solved[1]) {
     err << "no vertebra is loaded (the loads add up to less than "

@@ -110,7 +110,7 @@ BoneSampleResult BoneSegment::solve(double t_s, std::span<const BoneLoadPoint> l
     }
     if (!(sum >= config_.min_load_N) || scratch.contacts.empty()) continue;
     BoneSolution& sol = scratch.solution[v];
-    fem_[v]->solve(scratch.contacts, sol);
+    fem_[v]->solve(scratch.contacts, sol, scratch.nodal_fields);
     r.solved[v] = true;
     for (int m = 0; m < kBoneMeasureCount; ++m) {
       const auto measure = static_cast<BoneMeasure>(m);

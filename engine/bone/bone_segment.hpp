@@ -50,6 +50,8 @@ struct BoneSampleResult {
 struct BoneSegmentScratch {
   std::array<BoneSolution, 2> solution;
   std::vector<ContactLoad> contacts;
+  /// Also the per-node stresses (for drawing); the metrics need only the elements'.
+  bool nodal_fields = false;
 };
 
 class BoneSegment {
