@@ -1,6 +1,8 @@
 // The bone's solver thread: see bone_stress_worker.hpp.
 #include "app/bone_stress_worker.hpp"
 
+#include "app/background_priority.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -41,8 +43,7 @@ void BoneStressWorker::push(const BoneLoadRecord& sample) {
   const double now = wall_now();
   for (BoneLoadRecord& r : pending_) queue_.emplace_back(std::move(r), now);
   pending_.clear();
-  lock.unlock();
-  wake_.notify_one();
+  // No wake-up call on the stepping thread's path: the worker looks every few milliseconds.
 }
 
 bool BoneStressWorker::finish(BoneStressSummary* summary, BoneWorkerStats* stats,
@@ -63,6 +64,8 @@ bool BoneStressWorker::finish(BoneStressSummary* summary, BoneWorkerStats* stats
 }
 
 void BoneStressWorker::run() {
+  // Never take a core from the device and physics loops (background_priority.hpp).
+  stats_.background_priority = lower_this_threads_priority();
   const auto t0 = std::chrono::steady_clock::now();
   std::string why;
   auto bone = BoneSegment::build(anatomy_, config_, cache_dir_, &why);
@@ -76,7 +79,7 @@ void BoneStressWorker::run() {
     std::pair<BoneLoadRecord, double> item;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return closing_ || !queue_.empty(); });
+      while (!closing_ && queue_.empty()) wake_.wait_for(lock, std::chrono::milliseconds(5));
       if (queue_.empty()) break;  // closing and drained
       item = std::move(queue_.front());
       queue_.pop_front();

@@ -4,7 +4,9 @@
 // vertebrae (meshes from the cache, one factorisation each) and then solves the samples in the
 // order they came, summing them with the same BoneStressHistory a re-score uses, so the
 // attempt's bone metrics are identical live, headless and re-scored. When it falls behind it
-// catches up (the samples wait in a queue); finish() waits for the last one.
+// catches up (the samples wait in a queue); finish() waits for the last one. Like the
+// checkpoint writer it runs at background priority, so it never takes a core from the device
+// and physics loops.
 #pragma once
 
 #include <condition_variable>
@@ -32,6 +34,7 @@ struct BoneWorkerStats {
   double mean_sample_cpu_ms = 0.0;
   double mean_solve_cpu_ms = 0.0;  ///< per vertebra solve
   double lag_s = 0.0;            ///< largest wait of a sample in the queue (wall)
+  bool background_priority = false;  ///< the thread's priority was lowered
 };
 
 class BoneStressWorker {
@@ -42,8 +45,9 @@ class BoneStressWorker {
   BoneStressWorker(const BoneStressWorker&) = delete;
   BoneStressWorker& operator=(const BoneStressWorker&) = delete;
 
-  /// From the stepping thread: queues a sample. Never waits: when the queue is busy the sample
-  /// is kept and handed over with the next one (or by finish()).
+  /// From the stepping thread: queues a sample. Never waits and wakes nobody (the worker looks
+  /// every 5 ms): when the queue is busy the sample is kept and handed over with the next one
+  /// (or by finish()).
   void push(const BoneLoadRecord& sample);
   /// Waits until every sample is solved and stops the thread. Returns false with `error` set
   /// when the bone could not be built.

@@ -148,6 +148,7 @@ nlohmann::json result_json(const SessionResult& result, const std::string& png_p
                  {"mean_sample_cpu_ms", b.mean_sample_cpu_ms},
                  {"mean_solve_cpu_ms", b.mean_solve_cpu_ms},
                  {"max_lag_s", b.lag_s},
+                 {"background_priority", b.background_priority},
                  {"error", c.run.bone_error}};
   }
   j["stored_as"] = result.stored_as;
