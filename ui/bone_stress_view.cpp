@@ -200,7 +200,7 @@ void draw_bone_stress_overlay(const BoneStressView& view, const std::string& cap
   ImGui::SetNextWindowPos(ImVec2(20.0f, 20.0f));
   ImGui::Begin("Stress caption", nullptr, fixed);
   ImGui::TextUnformatted(caption.c_str());
-  ImGui::Text("%s: peak %.2f MPa under %.2f N", view.vertebra == 0 ? "C4" : "C5",
+  ImGui::Text("%s: peak %.2f MPa (any element) under %.2f N", view.vertebra == 0 ? "C4" : "C5",
               view.peak_Pa * 1e-6, view.load_N);
   ImGui::Text("largest displacement %.2f um; white arrows x%.0f", view.max_displacement_m * 1e6,
               view.arrow_scale);
