@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "assessment/bone_metrics.hpp"
 #include "assessment/metrics.hpp"
 #include "assessment/scoring.hpp"
 #include "engine/devices/trajectory.hpp"
@@ -31,6 +32,13 @@ AttemptStepper::AttemptStepper(const ScenarioModel& scenario, World& world, Inpu
   sample_.pose = scenario.world.instrument_start;
   // Set now (it does not change) so checkpoints can compute metrics of the record so far.
   run_.record.summary = world_.summary();
+  // The bone's solves run beside the attempt from its first sample on (bone_stress_worker.hpp).
+  if (scenario.bone.enabled && world.anatomy() != nullptr) {
+    bone_ = std::make_unique<BoneStressWorker>(
+        *world.anatomy(), scenario.bone, anatomy_cache_dir(scenario.world.anatomy, "bone"));
+    if (limit > 0)
+      run_.record.bone_loads.reserve(static_cast<std::size_t>(limit / scenario.bone.sample_period_s) + 16);
+  }
 }
 
 void AttemptStepper::set_checkpoints(double every_s, CheckpointSink sink) {
@@ -50,6 +58,12 @@ bool AttemptStepper::step() {
   device_.render_force(frame.feedback_force_N);
   run_.record.frames.push_back(frame);
   world_.drain_events(run_.record.events);
+  if (const BoneLoadSample* loads = world_.bone_loads(); loads && bone_) {
+    BoneLoadRecord& r = run_.record.bone_loads.emplace_back();
+    r.t_s = loads->t_s;
+    r.points.assign(loads->points.begin(), loads->points.begin() + loads->count);
+    bone_->push(r);
+  }
   if (world_.failed()) {
     stop(AttemptEnd::kNumericalFailure);
   } else if (sample_.disconnected) {
@@ -87,6 +101,12 @@ AttemptRun AttemptStepper::finish(double wall_s) {
       Event{world_.time_s(), EventKind::kAttemptEnd, 0.0, attempt_end_name(run_.end)});
   run_.record.summary = world_.summary();
   run_.metrics = compute_metrics(run_.record);
+  if (bone_) {
+    run_.bone_modelled = true;
+    BoneStressSummary bone;
+    if (bone_->finish(&bone, &run_.bone_stats, &run_.bone_error)) add_bone_metrics(bone, run_.metrics);
+    bone_.reset();
+  }
   run_.score = score_attempt(run_.metrics, scenario_.rubric);
   run_.state_hash = world_.state_hash();
   device_.finish(attempt_end_name(run_.end));

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "assessment/attempt_recording.hpp"
+#include "app/bone_stress_worker.hpp"
 #include "assessment/attempt_result.hpp"
 #include "engine/devices/input_device.hpp"
 #include "engine/devices/udp_device.hpp"
@@ -26,6 +27,11 @@ struct AttemptRun {
   AttemptEnd end = AttemptEnd::kInputEnded;
   double wall_s = 0.0;           ///< wall-clock time of the stepping loop
   std::uint64_t state_hash = 0;  ///< World::state_hash() at the end
+  /// The bone model (scenario's anatomy.bone): its solver thread's costs, and why it could
+  /// not be built ("" when fine; the bone metrics are then missing).
+  bool bone_modelled = false;
+  BoneWorkerStats bone_stats;
+  std::string bone_error;
 };
 
 /// Called after every step; return false to stop the attempt (e.g. a window was closed).
@@ -64,6 +70,8 @@ class AttemptStepper {
   AttemptEnd end() const { return end_; }
   const AttemptRecording& record() const { return run_.record; }
   const DeviceSample& last_sample() const { return sample_; }
+  /// The bone's solver thread (null when the scenario does not model the bone).
+  BoneStressWorker* bone_worker() { return bone_.get(); }
 
   /// Closes the record (attempt-end event, metrics, score), tells the device, and hands the
   /// run over. Call once, after the last step; `wall_s` is the stepping's wall time.
@@ -81,6 +89,7 @@ class AttemptStepper {
   double next_checkpoint_s_ = 0.0;
   std::size_t checkpointed_frames_ = 0, checkpointed_events_ = 0;
   CheckpointSink checkpoint_sink_;
+  std::unique_ptr<BoneStressWorker> bone_;
 };
 
 /// Steps `world` with `device` as described above. The world is left in its final state (for

@@ -1,11 +1,8 @@
 // The checkpoint writer thread of a live attempt: see live_attempt_checkpoints.hpp.
 #include "app/live_attempt_checkpoints.hpp"
 
-#include <pthread.h>
-#include <sched.h>
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
+#include "app/background_priority.hpp"
+
 
 #include <algorithm>
 #include <chrono>
@@ -24,19 +21,10 @@ double ms_since(Clock::time_point start) {
 // call, no wake-up on its path); a checkpoint is due every few seconds, so 10 ms is prompt.
 constexpr auto kPollPeriod = std::chrono::milliseconds(10);
 
-// The writer must never take a core from the device and physics loops. SCHED_BATCH: on Linux a
-// waking batch thread never preempts a running one (measured before this: woken at a hand-over,
-// the writer took the physics thread's core for up to 7 ms on a loaded 2-core machine); nice 10
-// then gives it about a tenth of a core's share when the cores are contended, which is still
-// several times what checkpoints need. Both are allowed without privileges. Returns whether
-// both were applied.
-bool lower_this_threads_priority() {
-  sched_param param{};
-  param.sched_priority = 0;
-  const bool batch = pthread_setschedparam(pthread_self(), SCHED_BATCH, &param) == 0;
-  const bool nice = setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 10) == 0;
-  return batch && nice;
-}
+// The writer must never take a core from the device and physics loops (measured before
+// lowering its priority: woken at a hand-over, it took the physics thread's core for up to 7 ms
+// on a loaded 2-core machine); background_priority.hpp says how. Nice 10 still leaves it
+// several times what checkpoints need.
 
 }  // namespace
 

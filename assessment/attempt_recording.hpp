@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "engine/core/bone_load.hpp"
 #include "engine/core/frame.hpp"
 #include "engine/world/world.hpp"
 
@@ -13,6 +14,8 @@ struct AttemptRecording {
   WorldSummary summary;
   std::vector<Frame> frames;
   std::vector<Event> events;
+  /// The loads on the bone, sampled at the bone model's rate (empty when it is off).
+  std::vector<BoneLoadRecord> bone_loads;
 };
 
 }  // namespace acdr

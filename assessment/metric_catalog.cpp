@@ -39,10 +39,35 @@ const std::vector<MetricInfo>& metric_catalog() {
   return kCatalog;
 }
 
+const std::vector<MetricInfo>& bone_metric_catalog() {
+  static const std::vector<MetricInfo> kCatalog = {
+      {"endplate_c4_peak_stress_MPa",
+       "C4 inferior bony endplate: peak von Mises stress over the attempt (MPa)"},
+      {"endplate_c5_peak_stress_MPa",
+       "C5 superior bony endplate: peak von Mises stress over the attempt (MPa)"},
+      {"endplate_peak_stress_MPa", "the larger of the two endplate peaks (MPa)"},
+      {"posterior_peak_stress_MPa",
+       "pedicles and bone around the foramina, C4 or C5: peak von Mises stress (MPa)"},
+      {"endplate_time_over_warning_s",
+       "time with an endplate's stress above the warning fraction of its strength (s)"},
+      {"posterior_time_over_warning_s",
+       "time with the pedicles' stress above the warning fraction of their strength (s)"},
+      {"bone_peak_load_N", "largest total load on the bone in a sample: instrument and nucleus (N)"},
+      {"bone_peak_load_time_s", "when that load was sampled (s into the attempt)"},
+  };
+  return kCatalog;
+}
+
+bool is_bone_metric_name(const std::string& name) {
+  const auto& bone = bone_metric_catalog();
+  return std::any_of(bone.begin(), bone.end(), [&](const MetricInfo& m) { return m.name == name; });
+}
+
 const std::vector<std::string>& known_metric_names() {
   static const std::vector<std::string> kNames = [] {
     std::vector<std::string> names;
     for (const MetricInfo& m : metric_catalog()) names.push_back(m.name);
+    for (const MetricInfo& m : bone_metric_catalog()) names.push_back(m.name);
     return names;
   }();
   return kNames;

@@ -22,7 +22,14 @@ struct MetricInfo {
 /// Every fixed metric compute_metrics() produces, in its output order.
 const std::vector<MetricInfo>& metric_catalog();
 
-/// Just the fixed names, in the same order.
+/// The bone-stress metrics, produced (in this order, after the fixed ones) only for a scene
+/// whose bone is modelled as finite-element vertebrae (assessment/bone_metrics.hpp).
+const std::vector<MetricInfo>& bone_metric_catalog();
+
+/// Whether `name` is one of bone_metric_catalog().
+bool is_bone_metric_name(const std::string& name);
+
+/// The names a rubric may use by name: the fixed ones, then the bone ones, in catalogue order.
 const std::vector<std::string>& known_metric_names();
 
 /// The per-zone quantities, in output order (name = the <quantity> part, e.g. "peak_force_N").
@@ -41,7 +48,7 @@ std::string zone_metric_name(std::string_view zone_id, std::string_view quantity
 /// as the scenario schema states it.
 const std::string& zone_metric_pattern();
 
-/// Whether `name` is a fixed metric or matches zone_metric_pattern().
+/// Whether `name` is a fixed or bone metric or matches zone_metric_pattern().
 bool is_known_metric_name(const std::string& name);
 
 }  // namespace acdr

@@ -13,6 +13,7 @@ constexpr char kMagicV2[8] = {'A', 'C', 'D', 'R', 'R', 'E', 'C', '2'};
 constexpr std::uint64_t kMaxCount = 1ull << 28;  // refuses absurd counts from damaged data
 constexpr std::uint8_t kFramesTag = 'F';
 constexpr std::uint8_t kEventsTag = 'E';
+constexpr std::uint8_t kBoneLoadsTag = 'B';
 
 static_assert(std::endian::native == std::endian::little,
               "recordings are little-endian; a big-endian port needs byte swaps here");
@@ -309,6 +310,32 @@ std::optional<AttemptRecording> decode_v1(Reader& rd, std::size_t size, const ch
   return r;
 }
 
+bool decode_bone_block(Reader& rd, std::vector<BoneLoadRecord>& out, const char** why) {
+  std::uint32_t n = 0;
+  if (!rd.get(n)) return *why = "truncated bone load block", false;
+  // Each sample takes at least 12 bytes: refuse counts the payload cannot hold.
+  if (static_cast<std::uint64_t>(n) * 12 > rd.left()) return *why = "bad bone sample count", false;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    BoneLoadRecord& r = out.emplace_back();
+    std::uint32_t points = 0;
+    if (!rd.get(r.t_s) || !rd.get(points)) return *why = "truncated bone loads", false;
+    if (points > static_cast<std::uint32_t>(BoneLoadSample::kCapacity))
+      return *why = "too many bone loads in a sample", false;
+    r.points.resize(points);
+    for (BoneLoadPoint& p : r.points) {
+      std::uint8_t source = 0;
+      if (!(rd.get(p.point_m.x()) && rd.get(p.point_m.y()) && rd.get(p.point_m.z()) &&
+            rd.get(p.force_N.x()) && rd.get(p.force_N.y()) && rd.get(p.force_N.z()) &&
+            rd.get(p.radius_m) && rd.get(p.vertebra) && rd.get(source)))
+        return *why = "truncated bone loads", false;
+      if (p.vertebra > 1 || source > static_cast<std::uint8_t>(BoneLoadSource::kNucleus))
+        return *why = "bad bone load vertebra or source", false;
+      p.source = static_cast<BoneLoadSource>(source);
+    }
+  }
+  return true;
+}
+
 std::optional<AttemptRecording> decode_v2(Reader& rd, std::size_t size, const char** why) {
   AttemptRecording r;
   WorldSummary& s = r.summary;
@@ -330,9 +357,10 @@ std::optional<AttemptRecording> decode_v2(Reader& rd, std::size_t size, const ch
     if (!rd.get(tag) || !rd.get(payload) || payload > rd.left())
       return *why = "truncated block", std::nullopt;
     Reader block(rd.here(), payload);
-    const bool ok = tag == kFramesTag   ? decode_frame_block(block, r.frames, why)
-                    : tag == kEventsTag ? decode_event_block(block, r.events, why)
-                                        : (*why = "unknown block", false);
+    const bool ok = tag == kFramesTag      ? decode_frame_block(block, r.frames, why)
+                    : tag == kEventsTag    ? decode_event_block(block, r.events, why)
+                    : tag == kBoneLoadsTag ? decode_bone_block(block, r.bone_loads, why)
+                                           : (*why = "unknown block", false);
     if (!ok) return std::nullopt;
     if (block.pos != payload) return *why = "trailing bytes in a block", std::nullopt;
     rd.skip(payload);
@@ -420,12 +448,33 @@ void append_event_block(std::span<const Event> events, std::vector<std::uint8_t>
   close_block(at, out);
 }
 
+void append_bone_load_block(std::span<const BoneLoadRecord> samples,
+                            std::vector<std::uint8_t>& out) {
+  if (samples.empty()) return;
+  const std::size_t at = open_block(kBoneLoadsTag, out);
+  Writer w(out);
+  w.put(static_cast<std::uint32_t>(samples.size()));
+  for (const BoneLoadRecord& r : samples) {
+    w.put(r.t_s);
+    w.put(static_cast<std::uint32_t>(r.points.size()));
+    for (const BoneLoadPoint& p : r.points) {
+      for (int a = 0; a < 3; ++a) w.put(p.point_m[a]);
+      for (int a = 0; a < 3; ++a) w.put(p.force_N[a]);
+      w.put(p.radius_m);
+      w.put(p.vertebra);
+      w.put(static_cast<std::uint8_t>(p.source));
+    }
+  }
+  close_block(at, out);
+}
+
 std::vector<std::uint8_t> encode_recording(const AttemptRecording& r) {
   std::vector<std::uint8_t> out = encode_recording_header(r.summary);
   const std::span<const Frame> frames(r.frames);
   for (std::size_t i = 0; i < frames.size(); i += kRecordingBlockFrames)
     append_frame_block(frames.subspan(i, std::min(kRecordingBlockFrames, frames.size() - i)), out);
   append_event_block(r.events, out);
+  append_bone_load_block(r.bone_loads, out);
   return out;
 }
 

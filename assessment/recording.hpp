@@ -17,6 +17,11 @@
 //               Lossless: decoding gives the same bits, so metrics re-compute exactly.
 //           'E' events: u32 count, per event f64 t, u8 kind, f64 value, i32 zone, u32 length +
 //               the detail text.
+//           'B' bone loads (only when the scene models the bone, engine/core/bone_load.hpp):
+//               u32 count, per sample f64 t, u32 loads, per load f32 point x y z (m),
+//               f32 force x y z (N), f32 patch radius (m), u8 vertebra (0 C4, 1 C5), u8
+//               source (0 instrument, 1 nucleus). Single precision is what the live solves
+//               used, so the bone metrics re-compute exactly.
 //   The header and blocks concatenate: a recording can be written piece by piece (periodic
 //   checkpoints of a running attempt) and any prefix that ends on a block boundary decodes.
 // Format "acdr-frames-v1" (magic "ACDRREC1", row by row, no zones) is still read.
@@ -42,7 +47,7 @@ inline constexpr const char* kRecordingFormatV1 = "acdr-frames-v1";
 bool is_known_recording_format(std::string_view format);
 
 /// The whole recording: header, frames in blocks of up to kRecordingBlockFrames, one block of
-/// all events.
+/// all events, one block of all bone load samples (when there are any).
 std::vector<std::uint8_t> encode_recording(const AttemptRecording& record);
 
 /// Frames per 'F' block written by encode_recording (about 4 s at 1 kHz).
@@ -55,6 +60,9 @@ std::vector<std::uint8_t> encode_recording_header(const WorldSummary& summary);
 void append_frame_block(std::span<const Frame> frames, std::vector<std::uint8_t>& out);
 /// Appends one 'E' block with `events` (nothing when empty).
 void append_event_block(std::span<const Event> events, std::vector<std::uint8_t>& out);
+/// Appends one 'B' block with `samples` (nothing when empty).
+void append_bone_load_block(std::span<const BoneLoadRecord> samples,
+                            std::vector<std::uint8_t>& out);
 
 /// The v1 layout, kept so reading old recordings stays tested and sizes can be compared.
 std::vector<std::uint8_t> encode_recording_v1(const AttemptRecording& record);

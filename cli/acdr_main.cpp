@@ -207,6 +207,21 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--png", render.png, "Output PNG")->required();
   render_cmd->add_option("--width", render.width, "Width in pixels");
   render_cmd->add_option("--height", render.height, "Height in pixels");
+  render_cmd->add_option("--stress-load", render.stress_loads,
+                         "Draw the bone's stress under this load instead: x,y,z,fx,fy,fz (mm, N, "
+                         "segment frame, force on the bone); repeat for several");
+  render_cmd->add_option("--stress-radius", render.stress_radius_mm,
+                         "Patch radius of --stress-load (mm, default 1)");
+  render_cmd->add_option("--recording", render.recording,
+                         "Draw the bone's stress under a recorded attempt's loads (a file written "
+                         "by acdr run --record)");
+  render_cmd->add_option("--attempt", render.attempt,
+                         "... or a stored attempt's loads (id in the database)");
+  render_cmd->add_option("--db", render.db, "Database file for --attempt");
+  render_cmd->add_option("--at", render.at_s,
+                         "Time in the attempt (s; default: its moment of peak bone load)");
+  render_cmd->add_option("--stress-max", render.stress_max_MPa,
+                         "Top of the colour bar (MPa; default: the peak, rounded up)");
   render_cmd->callback([&] { code = acdr::run_render(render, std::cout, std::cerr); });
 
   // acdr rescore

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "app/bone_metrics_replay.hpp"
 #include "assessment/metrics.hpp"
 #include "assessment/recording.hpp"
 #include "assessment/scoring.hpp"
@@ -40,6 +41,7 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
   }
 
   std::map<std::string, std::shared_ptr<const ScenarioModel>> scenarios;  // by module id
+  BoneMetricsReplay bone;  // the bone models of the last module, built once
   int rescored = 0, changed = 0;
   for (const AttemptRecord& row : attempts.value()) {
     if (options.attempt && row.id != *options.attempt) continue;
@@ -96,7 +98,13 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
       err << db_path << ": attempt " << row.id << ": " << error << "\n";
       return 2;
     }
-    const Metrics metrics = compute_metrics(*recording);
+    Metrics metrics = compute_metrics(*recording);
+    // The bone's stresses, solved again from the recorded loads (not for an aborted attempt,
+    // whose checkpoints do not carry them).
+    if (!aborted && !bone.add_metrics(*scenario, *recording, metrics, &error)) {
+      err << db_path << ": attempt " << row.id << ": bone model: " << error << "\n";
+      return 2;
+    }
     const bool metrics_same = metrics.values == full.value()->metrics.values;
     char line[200];
     if (aborted) {

@@ -140,6 +140,21 @@ nlohmann::json result_json(const SessionResult& result, const std::string& png_p
                       {"detail", e.detail}});
   j["events"] = events;
   if (result.haptics) j["haptics"] = haptics_json(*result.haptics, c.run);
+  if (c.run.bone_modelled) {
+    // The bone's solver thread (docs/bone-fem.md, "In an attempt"): wall times per sample.
+    const BoneWorkerStats& b = c.run.bone_stats;
+    j["bone"] = {{"build_s", b.build_s},
+                 {"samples", b.samples},
+                 {"recorded_samples", c.run.record.bone_loads.size()},
+                 {"solves", b.solves},
+                 {"mean_sample_ms", b.mean_sample_ms},
+                 {"max_sample_ms", b.max_sample_ms},
+                 {"mean_sample_cpu_ms", b.mean_sample_cpu_ms},
+                 {"mean_solve_cpu_ms", b.mean_solve_cpu_ms},
+                 {"max_lag_s", b.lag_s},
+                 {"background_priority", b.background_priority},
+                 {"error", c.run.bone_error}};
+  }
   j["stored_as"] = result.stored_as;
   j["attempt_id"] = result.attempt_id;
   j["db"] = result.db_path;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/anatomy/anatomy.hpp"
+#include "engine/bone/bone_segment.hpp"
 #include "scenarios/content_hash.hpp"
 #include "scenarios/device_presets.hpp"
 #include "scenarios/json_position_index.hpp"
@@ -349,7 +350,65 @@ void read_zones(ObjectReader& r, AnatomyConfig& a) {
   r.finish();
 }
 
-void read_anatomy(ObjectReader& r, AnatomyConfig& a, const std::string& scenario_path) {
+// anatomy.bone: the vertebrae as finite-element solids (engine/bone, docs/bone-fem.md)
+
+void read_bone_material(ObjectReader& r, IsotropicMaterial& m, double* thickness_m) {
+  if (auto x = r.quantity(stress("youngs_modulus"), Need::kOptional, Range::positive(100e9))) {
+    m.youngs_modulus_Pa = *x;
+  }
+  if (auto x = r.number("poisson_ratio", Need::kOptional, {0.0, 0.5, false, true})) m.poisson_ratio = *x;
+  if (thickness_m != nullptr) {
+    if (auto x = r.quantity(length("thickness"), Need::kOptional, Range::positive(5 * kMm))) *thickness_m = *x;
+  }
+  r.finish();
+}
+
+void read_bone(ObjectReader& r, BoneModelConfig& b) {
+  b.enabled = true;
+  if (auto v = r.boolean("enabled", Need::kOptional)) b.enabled = *v;
+  BoneFemConfig& f = b.fem;
+  if (auto x = r.quantity(length("element_size"), Need::kOptional, Range::closed(0.5 * kMm, 5 * kMm))) {
+    f.meshing.size_m = *x;
+  }
+  if (auto s = r.string("order", Need::kOptional, true, {"linear", "quadratic"},
+                        "the tetrahedra's order")) {
+    f.order = *s == "quadratic" ? TetOrder::kQuadratic : TetOrder::kLinear;
+  }
+  if (auto x = r.quantity(length("support_depth"), Need::kOptional, Range::positive(5 * kMm))) {
+    f.support_depth_m = *x;
+  }
+  if (auto x = r.quantity(duration("sample_period"), Need::kOptional, Range::closed(1e-3, 1.0))) {
+    b.sample_period_s = *x;
+  }
+  if (auto x = r.quantity(length("nucleus_cell"), Need::kOptional, Range::closed(0.5 * kMm, 10 * kMm))) {
+    b.nucleus_cell_m = *x;
+  }
+  if (auto o = r.object("materials", Need::kOptional)) {
+    BoneMaterials& m = f.materials;
+    if (auto c = o->object("cortical", Need::kOptional)) read_bone_material(*c, m.cortical, &m.shell.cortical_thickness_m);
+    if (auto c = o->object("cancellous", Need::kOptional)) read_bone_material(*c, m.cancellous, nullptr);
+    if (auto c = o->object("endplate", Need::kOptional)) read_bone_material(*c, m.endplate, &m.shell.endplate_thickness_m);
+    if (auto c = o->object("posterior", Need::kOptional)) read_bone_material(*c, m.posterior, nullptr);
+    o->finish();
+  }
+  if (auto o = r.object("strength", Need::kOptional)) {
+    if (auto x = o->quantity(stress("endplate"), Need::kOptional, Range::positive(1e9))) b.strengths.endplate_Pa = *x;
+    if (auto x = o->quantity(stress("posterior"), Need::kOptional, Range::positive(1e9))) b.strengths.posterior_Pa = *x;
+    if (auto x = o->number("warning_fraction", Need::kOptional, Range::positive(1.0))) {
+      b.strengths.warning_fraction = *x;
+    }
+    o->finish();
+  }
+  // What the keys cannot say one by one (e.g. the materials' own checks).
+  std::istringstream lines(validate_bone_model_config(b));
+  for (std::string line; std::getline(lines, line);) {
+    r.context().error(r.pointer(), "bad bone model: " + line);
+  }
+  r.finish();
+}
+
+void read_anatomy(ObjectReader& r, AnatomyConfig& a, BoneModelConfig& bone,
+                  const std::string& scenario_path) {
   a.enabled = true;
   if (auto o = r.object("morphometry", Need::kOptional)) read_morphometry(*o, a.segment);
   if (auto o = r.object("meshes", Need::kOptional)) read_meshes(*o, a, scenario_path);
@@ -358,6 +417,11 @@ void read_anatomy(ObjectReader& r, AnatomyConfig& a, const std::string& scenario
   if (auto s = r.string("cache_dir", Need::kOptional, true, {},
                         "a directory for cached meshes and grids, or \"none\"")) {
     a.cache_dir = *s;
+  }
+  if (auto o = r.object("bone", Need::kOptional)) read_bone(*o, bone);
+  if (bone.enabled) {
+    a.bone_load_period_s = bone.sample_period_s;
+    a.bone_load_cell_m = bone.nucleus_cell_m;
   }
   r.finish();
 }
@@ -604,7 +668,8 @@ void read_removal(ObjectReader& r, RemovalRegionConfig& reg, const NucleusConfig
   r.finish();
 }
 
-void read_world(ObjectReader& r, WorldConfig& w, const std::string& scenario_path) {
+void read_world(ObjectReader& r, WorldConfig& w, BoneModelConfig& bone,
+                const std::string& scenario_path) {
   if (auto g = r.vector3(plain("gravity_m_s2", "m/s²"), Need::kOptional, Range::closed(-100.0, 100.0))) {
     w.gravity_m_s2 = *g;
   }
@@ -616,7 +681,7 @@ void read_world(ObjectReader& r, WorldConfig& w, const std::string& scenario_pat
   if (auto o = r.object("coupling", Need::kOptional)) read_coupling(*o, w.coupling);
   if (auto o = r.object("device", Need::kOptional)) read_device(*o, w.device);
   if (auto o = r.object("solver", Need::kOptional)) read_solver(*o, w.solver);
-  if (auto o = r.object("anatomy", Need::kOptional)) read_anatomy(*o, w.anatomy, scenario_path);
+  if (auto o = r.object("anatomy", Need::kOptional)) read_anatomy(*o, w.anatomy, bone, scenario_path);
   // Removal is what the nucleus is scored by, so a scene with a nucleus must say where it is.
   const bool nucleus_declared = r.has("nucleus");
   if (auto o = r.object("removal_region", nucleus_declared ? Need::kRequiredHere : Need::kOptional)) {
@@ -717,8 +782,22 @@ void read_document(ObjectReader& r, ScenarioModel& m) {
   if (auto v = r.number("time_limit_s", Need::kOptional, Range::closed(0.0, 86400.0), "s")) {
     m.time_limit_s = *v;
   }
-  if (auto o = r.object("world", Need::kRequired)) read_world(*o, m.world, m.path);
+  if (auto o = r.object("world", Need::kRequired)) read_world(*o, m.world, m.bone, m.path);
   if (auto o = r.object("rubric", Need::kRequired)) read_rubric(*o, m.rubric);
+  // A bone metric exists only where the bone is modelled: a rubric without it would fail
+  // its gate ("not measured") on every attempt.
+  if (!m.bone.enabled) {
+    auto check = [&](const std::string& metric, const std::string& pointer) {
+      if (!is_bone_metric_name(metric)) return;
+      r.context().error(pointer, "bone metric without a bone model (got " + in_quotes(metric) +
+                                     ", expected world.anatomy.bone to be present and enabled, "
+                                     "or a metric that is not a bone stress)");
+    };
+    for (std::size_t i = 0; i < m.rubric.terms.size(); ++i)
+      check(m.rubric.terms[i].metric, "/rubric/terms/" + std::to_string(i) + "/metric");
+    for (std::size_t i = 0; i < m.rubric.gates.size(); ++i)
+      check(m.rubric.gates[i].metric, "/rubric/gates/" + std::to_string(i) + "/metric");
+  }
   r.finish();
 }
 

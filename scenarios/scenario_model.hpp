@@ -5,6 +5,7 @@
 #include <string>
 
 #include "assessment/rubric.hpp"
+#include "engine/bone/bone_segment.hpp"
 #include "engine/world/world_config.hpp"
 
 namespace acdr {
@@ -20,6 +21,8 @@ struct ScenarioModel {
   int module_order = 0;      ///< position in the curriculum
   double time_limit_s = 0.0; ///< 0: none
   WorldConfig world;
+  /// The bone as finite-element vertebrae (world.anatomy.bone in the file); off by default.
+  BoneModelConfig bone;
   Rubric rubric;
 };
 

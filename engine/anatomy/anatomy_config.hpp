@@ -34,6 +34,12 @@ struct AnatomyConfig {
   std::vector<DangerZone> extra_zones;
   /// Where meshes and grids are cached: "" the user's cache (XDG), "none" no caching.
   std::string cache_dir;
+  /// Loads on the bone for its finite-element model (engine/core/bone_load.hpp): sampled every
+  /// this much simulated time (s); 0: not sampled.
+  double bone_load_period_s = 0.0;
+  /// The nucleus's reaction on the bone is gathered over cubic cells this wide (m); each cell
+  /// becomes one load spread over half its width.
+  double bone_load_cell_m = 2.0e-3;
 };
 
 /// At most this many danger zones per scene (a Frame holds one sample per zone).

@@ -87,7 +87,8 @@ std::unique_ptr<BoneFem> BoneFem::build(const TriangleMesh& surface, const Segme
   return bone;
 }
 
-void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out) const {
+void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out,
+                    bool nodal_fields) const {
   auto t0 = std::chrono::steady_clock::now();
   const std::size_t dofs = model_->dof_count(), nodes = mesh_.nodes.size(),
                     tets = mesh_.tets.size();
@@ -117,11 +118,15 @@ void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out) co
   model_->element_stress(out.dof_displacement_m, out.element_stress_Pa);
   for (std::size_t t = 0; t < tets; ++t)
     out.element_von_mises_Pa[t] = von_mises(out.element_stress_Pa[t]);
-  out.node_stress_Pa.resize(nodes);
-  model_->nodal_stress(out.dof_displacement_m, out.element_stress_Pa, out.node_stress_Pa);
-  out.node_von_mises_Pa.resize(nodes);
-  for (std::size_t i = 0; i < nodes; ++i)
-    out.node_von_mises_Pa[i] = von_mises(out.node_stress_Pa[i]);
+  if (nodal_fields) {
+    out.node_stress_Pa.resize(nodes);
+    model_->nodal_stress(out.dof_displacement_m, out.element_stress_Pa, out.node_stress_Pa);
+    out.node_von_mises_Pa.resize(nodes);
+    for (std::size_t i = 0; i < nodes; ++i)
+      out.node_von_mises_Pa[i] = von_mises(out.node_stress_Pa[i]);
+  } else {
+    out.node_von_mises_Pa.clear();
+  }
   out.stress_seconds = seconds_since(t0);
 }
 

@@ -87,8 +87,11 @@ class BoneFem {
                                         const std::string& cache_dir, BoneFemReport* report,
                                         std::string* error);
 
-  /// Solves for the contacts (forces on the bone, N; positions on its surface, m).
-  void solve(std::span<const ContactLoad> contacts, BoneSolution& out) const;
+  /// Solves for the contacts (forces on the bone, N; positions on its surface, m). Without
+  /// `nodal_fields` the per-node stresses (for drawing) are left out and node_von_mises_Pa is
+  /// emptied: what the metrics need costs less.
+  void solve(std::span<const ContactLoad> contacts, BoneSolution& out,
+             bool nodal_fields = true) const;
 
   const TetMesh& mesh() const { return mesh_; }  ///< regions set
   const BoneRegionLabels& labels() const { return labels_; }

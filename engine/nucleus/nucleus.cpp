@@ -264,6 +264,7 @@ void Nucleus::init(std::span<const Collider> static_colliders,
   release_.assign(n, 0);
   pressure_.assign(n, 0.0);
   body_force_.assign(n, Vec3::Zero());
+  static_force_.assign(n, Vec3::Zero());
   active_.assign(n, 0);
   active_count_ = 0;
   for (std::size_t i = 0; i < n; ++i)
@@ -432,6 +433,7 @@ std::span<const double> Nucleus::masses() const { return mass_; }
 std::span<Vec3> Nucleus::external_forces() { return f_ext_; }
 std::span<const double> Nucleus::pressures() const { return pressure_; }
 std::span<const Vec3> Nucleus::body_forces() const { return body_force_; }
+std::span<const Vec3> Nucleus::static_forces() const { return static_force_; }
 std::span<const std::uint8_t> Nucleus::bond_alive() const { return bond_alive_; }
 std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_; }
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
@@ -514,6 +516,7 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   // they were written).
   for (std::size_t k = 0; k < nl_; ++k) {
     body_force_[lg_[k]] = Vec3::Zero();
+    static_force_[lg_[k]] = Vec3::Zero();
     local_[lg_[k]] = -1;
   }
   na_ = nh_ = nl_ = 0;
@@ -2029,7 +2032,16 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
     }
     for (std::size_t h = w0; h < end; ++h) {
       const WallHit& w = walls_[h];
-      if (w.collider < 0) continue;
+      if (w.collider < 0) {
+        // The gathered static (the bone): the same three parts, only recorded.
+        if (w.collider == -1 - options_.gathered_static) {
+          Vec3 f = -share[h - w0] * w.normal;
+          f += (visc_coef_[k] * w.visc) * (v[k] - w.v_wall);
+          f += volume_ * pressure_[i] * w.grad;
+          static_force_[i] += f;
+        }
+        continue;
+      }
       const Collider& c = moving[w.collider];
       if (c.body < 0 || static_cast<std::size_t>(c.body) >= reactions.size()) continue;
       BodyReaction& r = reactions[c.body];
@@ -2188,7 +2200,10 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       const double vn = (v_[i] - vw).dot(nw);
       if (vn < 0.0) {
         v_[i] -= vn * nw;
-        if (!is_static) {
+        if (is_static) {
+          if (static_cast<int>(c_idx) == options_.gathered_static)
+            static_force_[i] += mass_[i] * vn / dt * nw;
+        } else {
           const Collider& mc = moving[c_idx - n_static];
           if (mc.body >= 0 && static_cast<std::size_t>(mc.body) < reactions.size()) {
             BodyReaction& r = reactions[mc.body];

@@ -53,6 +53,10 @@ struct NucleusOptions {
   /// Verlet skin in units of h: candidate pairs are kept within R + skin and rebuilt once the
   /// two largest displacements since the last build sum to a skin.
   double skin_factor = 0.3;
+  /// Index of the static collider whose reaction from the particles is gathered per particle
+  /// (static_forces(); the bone, for its finite-element model); -1: none. Only read: the
+  /// particles' motion does not depend on it.
+  int gathered_static = -1;
 };
 
 /// An explicit particle scene (verification, tests): positions, materials, fixed particles
@@ -109,6 +113,9 @@ class Nucleus {
   std::span<const double> pressures() const;     ///< N, Pa, at the end of the last step
   /// N, N: force each particle exerted on the moving bodies in the last step.
   std::span<const Vec3> body_forces() const;
+  /// N, N: force each particle exerted on the static collider NucleusOptions::gathered_static
+  /// in the last step (zero without one).
+  std::span<const Vec3> static_forces() const;
   std::span<const std::uint8_t> bond_alive() const;  ///< bonds at build, 1 while intact
   std::span<const std::int32_t> bond_particles() const;  ///< 2 per bond: i, j
   /// Velocity of a fixed (kinematic) particle; it moves with it. Ignored for free particles.
@@ -196,6 +203,7 @@ class Nucleus {
   std::vector<std::uint8_t> release_;  // 1: a contact pulled last step; skip once
   std::vector<double> pressure_;       // Pa, end of the last step
   std::vector<Vec3> body_force_;       // N, force on moving bodies by particle, last step
+  std::vector<Vec3> static_force_;     // N, force on the gathered static collider, last step
   std::vector<std::int32_t> active_;   // awake particles this step, ascending
   std::size_t active_count_ = 0;
   std::vector<std::int32_t> fixed_list_;  // the fixed particles

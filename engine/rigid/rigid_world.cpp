@@ -44,6 +44,7 @@ struct RigidWorld::Impl {
     info.m_startWorldTransform = xf;
     info.m_friction = 0.3;
     auto body = std::make_unique<btRigidBody>(info);
+    body->setUserIndex2(-1);  // not a mesh (add_static_mesh numbers its meshes)
     world.addRigidBody(body.get());
     statics.push_back(std::move(body));
     shapes.push_back(std::move(shape));
@@ -215,6 +216,8 @@ void RigidWorld::add_static_mesh(const TriangleMesh& mesh) {
       bvh.get(), btVector3(1.0 / kUnitsPerMetre, 1.0 / kUnitsPerMetre, 1.0 / kUnitsPerMetre));
   shape->setMargin(kMargin);
   impl_->add_static(std::move(shape), btTransform::getIdentity());
+  // Which mesh a contact is with (gather_mesh_contacts); Bullet does not read the index.
+  impl_->statics.back()->setUserIndex2(static_cast<int>(impl_->mesh_shapes.size()));
   impl_->mesh_arrays.push_back(std::move(array));
   impl_->mesh_shapes.push_back(std::move(bvh));
 }
@@ -256,6 +259,44 @@ RigidContact RigidWorld::step(double dt, const Vec3& force_N, const Vec3& torque
     }
   }
   return contact;
+}
+
+void RigidWorld::gather_mesh_contacts(double dt, BoneLoadSample& out) const {
+  const auto* body = impl_->instrument.get();
+  if (!body || !(dt > 0.0)) return;
+  const auto* dispatcher = impl_->world.getDispatcher();
+  for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
+    const btPersistentManifold* manifold =
+        const_cast<btDispatcher*>(dispatcher)->getManifoldByIndexInternal(m);
+    const bool is_a = manifold->getBody0() == body;
+    const bool is_b = manifold->getBody1() == body;
+    if (!is_a && !is_b) continue;
+    const btCollisionObject* other = is_a ? manifold->getBody1() : manifold->getBody0();
+    const int mesh = other->getUserIndex2();
+    if (mesh < 0) continue;  // not a mesh (ground, box walls)
+    for (int p = 0; p < manifold->getNumContacts(); ++p) {
+      const btManifoldPoint& pt = manifold->getContactPoint(p);
+      if (pt.getDistance() > 1e-4) continue;
+      // The same force step() sums on the instrument; the mesh feels its opposite.
+      Vec3 f = from_bt(pt.m_normalWorldOnB) * pt.getAppliedImpulse() +
+               from_bt(pt.m_lateralFrictionDir1) * pt.m_appliedImpulseLateral1 +
+               from_bt(pt.m_lateralFrictionDir2) * pt.m_appliedImpulseLateral2;
+      f /= dt;
+      if (is_b) f = -f;
+      if (f.squaredNorm() == 0.0) continue;
+      if (out.count >= BoneLoadSample::kCapacity) {
+        ++out.dropped;
+        continue;
+      }
+      BoneLoadPoint& load = out.points[out.count++];
+      load.point_m =
+          from_bt(is_a ? pt.getPositionWorldOnB() : pt.getPositionWorldOnA()).cast<float>();
+      load.force_N = (-f).cast<float>();
+      load.radius_m = 0.0f;  // the bone model's default contact patch
+      load.vertebra = static_cast<std::uint8_t>(mesh);
+      load.source = BoneLoadSource::kInstrument;
+    }
+  }
 }
 
 }  // namespace acdr

@@ -5,6 +5,7 @@
 
 #include <memory>
 
+#include "engine/core/bone_load.hpp"
 #include "engine/geometry/collider.hpp"
 #include "engine/geometry/triangle_mesh.hpp"
 #include "engine/rigid/instrument.hpp"
@@ -51,6 +52,12 @@ class RigidWorld {
   /// Adds a static closed triangle mesh (bone, world frame) as a Bullet BVH triangle mesh with
   /// a 0.1 mm margin (built in millimetres, see rigid_world.cpp). The mesh is copied.
   void add_static_mesh(const TriangleMesh& mesh);
+
+  /// Appends to `out` the instrument's contact points with the static meshes in the last
+  /// step (mesh k, in the order added, as `vertebra` k): the point on the mesh and the force
+  /// the instrument put on it, from the impulses of a step of `dt`. Reads the contact state
+  /// only; points beyond the sample's capacity are counted in `out.dropped`.
+  void gather_mesh_contacts(double dt, BoneLoadSample& out) const;
 
  private:
   struct Impl;

@@ -1,8 +1,10 @@
 // World assembly and the fixed step.
 #include "engine/world/world.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <span>
 
 #include "engine/core/state_hash.hpp"
@@ -69,9 +71,17 @@ World::World(const WorldConfig& config)
     rigid_->add_static_mesh(anatomy_->vertebra(VertebraLevel::kC4));
     rigid_->add_static_mesh(anatomy_->vertebra(VertebraLevel::kC5));
   }
-  if (config_.nucleus.enabled)
+  if (anatomy_ && config_.anatomy.bone_load_period_s > 0.0) {
+    bone_period_steps_ = std::max<std::int64_t>(
+        1, std::llround(config_.anatomy.bone_load_period_s / config_.solver.dt_s));
+  }
+  if (config_.nucleus.enabled) {
+    NucleusOptions options;
+    // The bone (the last static collider) when its loads are sampled.
+    if (bone_period_steps_ > 0) options.gathered_static = static_cast<int>(static_colliders_.size()) - 1;
     nucleus_ = std::make_unique<Nucleus>(config_.nucleus, config_.solver, config_.gravity_m_s2,
-                                         static_colliders_);
+                                         static_colliders_, options);
+  }
   if (instrument_) {
     rigid_->place_instrument(config_.instrument_start);
     moving_.reserve(instrument_->local_colliders().size());
@@ -266,6 +276,71 @@ void World::record(const StepData& s) {
     frame_.broken_bonds = static_cast<std::int32_t>(nucleus_->broken_bond_count());
     frame_.active_particles = static_cast<std::int32_t>(nucleus_->active_count());
     count_removed();
+  }
+  bone_sampled_ = bone_period_steps_ > 0 && steps_ % bone_period_steps_ == 0;
+  if (bone_sampled_) sample_bone_loads();
+}
+
+// The loads on each vertebra at this step: the instrument's contact points with the bone
+// meshes, and the particles' reaction on the bone grid gathered per cell of
+// bone_load_cell_m (the force summed, placed at the force-weighted mean of the particles,
+// each particle on the vertebra whose surface is nearer). Reads state only.
+void World::sample_bone_loads() {
+  BoneLoadSample& out = bone_loads_;
+  out.t_s = t_;
+  out.count = 0;
+  out.dropped = 0;
+  if (instrument_) rigid_->gather_mesh_contacts(config_.solver.dt_s, out);
+  if (!nucleus_) return;
+  const int first_cell = out.count;
+  const double cell = config_.anatomy.bone_load_cell_m;
+  const auto forces = nucleus_->static_forces();
+  const auto x = nucleus_->positions();
+  const SignedDistanceGrid& c4 = anatomy_->vertebra_grid(VertebraLevel::kC4);
+  const SignedDistanceGrid& c5 = anatomy_->vertebra_grid(VertebraLevel::kC5);
+  for (std::size_t i = 0; i < forces.size(); ++i) {
+    const Vec3& f = forces[i];
+    const double w = f.norm();
+    if (!(w > 0.0)) continue;
+    const std::uint8_t vertebra = c4.distance(x[i]) <= c5.distance(x[i]) ? 0 : 1;
+    const Eigen::Array3d c = (x[i] / cell).array().floor();
+    // Cells within +-2^20 of the origin (2 km at 2 mm): a unique key per cell and vertebra.
+    const std::int64_t key = ((static_cast<std::int64_t>(c.x()) + (1 << 20)) << 42) |
+                             ((static_cast<std::int64_t>(c.y()) + (1 << 20)) << 21) |
+                             (static_cast<std::int64_t>(c.z()) + (1 << 20));
+    const std::int64_t full_key = key * 2 + vertebra;
+    int slot = first_cell;
+    while (slot < out.count && bone_cell_key_[slot] != full_key) ++slot;
+    if (slot == out.count) {
+      if (out.count >= BoneLoadSample::kCapacity) {
+        // Full: the nearest cell of the same vertebra takes it (keeps the total force).
+        double best = std::numeric_limits<double>::infinity();
+        slot = -1;
+        for (int k = first_cell; k < out.count; ++k) {
+          if (out.points[k].vertebra != vertebra || bone_cell_weight_[k] <= 0.0) continue;
+          const double d = (bone_cell_sum_[k] / bone_cell_weight_[k] - x[i]).squaredNorm();
+          if (d < best) best = d, slot = k;
+        }
+        if (slot < 0) continue;
+      } else {
+        BoneLoadPoint& p = out.points[out.count];
+        p.radius_m = static_cast<float>(0.5 * cell);
+        p.vertebra = vertebra;
+        p.source = BoneLoadSource::kNucleus;
+        bone_cell_key_[out.count] = full_key;
+        bone_cell_weight_[out.count] = 0.0;
+        bone_cell_sum_[out.count] = Vec3::Zero();
+        bone_cell_force_[out.count] = Vec3::Zero();
+        ++out.count;
+      }
+    }
+    bone_cell_force_[slot] += f;
+    bone_cell_sum_[slot] += w * x[i];
+    bone_cell_weight_[slot] += w;
+  }
+  for (int k = first_cell; k < out.count; ++k) {
+    out.points[k].point_m = (bone_cell_sum_[k] / bone_cell_weight_[k]).cast<float>();
+    out.points[k].force_N = bone_cell_force_[k].cast<float>();
   }
 }
 

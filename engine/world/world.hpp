@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/anatomy/anatomy.hpp"
+#include "engine/core/bone_load.hpp"
 #include "engine/core/frame.hpp"
 #include "engine/devices/device_guard.hpp"
 #include "engine/devices/input_device.hpp"
@@ -87,6 +88,9 @@ class World {
   bool is_removed(std::size_t i) const;
   /// FNV-1a over the nucleus and instrument state, for determinism checks.
   std::uint64_t state_hash() const;
+  /// The loads on the bone when the last step sampled them (AnatomyConfig::bone_load_period_s,
+  /// at the steps that reach each multiple of it), else null. Valid until the next step.
+  const BoneLoadSample* bone_loads() const { return bone_sampled_ ? &bone_loads_ : nullptr; }
 
  private:
   struct StepData;  // what one step's stages hand on to the next
@@ -101,6 +105,7 @@ class World {
                         const RigidContact& contact);
   void evaluate_zones_and_emit(const Vec3& tissue_force_N);
   void count_removed();
+  void sample_bone_loads();
   void emit(EventKind kind, double value, const char* detail);
 
   WorldConfig config_;
@@ -133,6 +138,15 @@ class World {
   std::array<std::uint8_t, kMaxZones> zone_inside_active_{};
   std::array<std::uint8_t, kMaxZones> zone_force_active_{};
   Quat last_target_orientation_ = Quat::Identity();
+  // Bone loads (AnatomyConfig::bone_load_period_s): the sample, its period in steps, and the
+  // nucleus cells' keys and weights while gathering (fixed capacity).
+  BoneLoadSample bone_loads_;
+  bool bone_sampled_ = false;
+  std::int64_t bone_period_steps_ = 0;
+  std::array<std::int64_t, BoneLoadSample::kCapacity> bone_cell_key_{};
+  std::array<double, BoneLoadSample::kCapacity> bone_cell_weight_{};
+  std::array<Vec3, BoneLoadSample::kCapacity> bone_cell_sum_{};    // weighted positions
+  std::array<Vec3, BoneLoadSample::kCapacity> bone_cell_force_{};  // summed forces
 };
 
 }  // namespace acdr

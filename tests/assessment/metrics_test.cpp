@@ -65,7 +65,15 @@ TEST(MetricCatalog, ListsExactlyWhatComputeMetricsProduces) {
   const Metrics m = compute_metrics(AttemptRecording{});
   std::vector<std::string> produced;
   for (const auto& [name, value] : m.values) produced.push_back(name);
-  EXPECT_EQ(produced, known_metric_names());
+  std::vector<std::string> fixed;
+  for (const MetricInfo& info : metric_catalog()) fixed.push_back(info.name);
+  EXPECT_EQ(produced, fixed);
+  // The bone's follow them in the names a rubric may use.
+  std::vector<std::string> known = fixed;
+  for (const MetricInfo& info : bone_metric_catalog()) known.push_back(info.name);
+  EXPECT_EQ(known, known_metric_names());
+  EXPECT_TRUE(is_bone_metric_name("endplate_peak_stress_MPa"));
+  EXPECT_FALSE(is_bone_metric_name("peak_contact_force_N"));
 }
 
 TEST(MetricCatalog, ZoneIdsAreSafeAndUnique) {
@@ -165,7 +173,9 @@ TEST(ZoneMetrics, OverlappingNearIntervalsCountOnceInTheUnion) {
 
 TEST(ZoneMetrics, NamesFollowTheCatalogueInZoneOrder) {
   const Metrics m = compute_metrics(zone_record());
-  std::vector<std::string> expected = known_metric_names();
+  // The fixed metrics (the bone's are added only where the bone is modelled), then the zones'.
+  std::vector<std::string> expected;
+  for (const MetricInfo& info : metric_catalog()) expected.push_back(info.name);
   for (const char* id : {"vertebral_artery_l", "nerve_root"})
     for (const MetricInfo& q : zone_metric_catalog()) expected.push_back(zone_metric_name(id, q.name));
   std::vector<std::string> produced;

@@ -203,3 +203,58 @@ TEST(Recording, ManyBlocksAndSpecialValuesSurvive) {
 
 }  // namespace
 }  // namespace acdr
+
+namespace acdr {
+namespace {
+
+// The bone's load samples come back with the same bits (the re-computed stresses depend on
+// it), and a damaged bone block is refused with its reason.
+TEST(Recording, BoneLoadSamplesSurviveBitForBit) {
+  AttemptRecording r = sample_record();
+  for (int k = 0; k < 30; ++k) {
+    BoneLoadRecord& s = r.bone_loads.emplace_back();
+    s.t_s = 0.01 * (k + 1);
+    for (int i = 0; i < k % 5; ++i) {
+      BoneLoadPoint p;
+      p.point_m = Eigen::Vector3f(1e-3f * i, -2.9e-3f + 1e-5f * k, 3e-3f / (i + 1));
+      p.force_N = Eigen::Vector3f(0.1f * i, -1.0f / (k + 1), 1e-7f);
+      p.radius_m = i % 2 ? 1e-3f : 0.0f;
+      p.vertebra = static_cast<std::uint8_t>(i % 2);
+      p.source = i % 2 ? BoneLoadSource::kNucleus : BoneLoadSource::kInstrument;
+      s.points.push_back(p);
+    }
+  }
+  const auto bytes = encode_recording(r);
+  std::string error;
+  const auto back = decode_recording(bytes, &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_EQ(back->bone_loads.size(), r.bone_loads.size());
+  for (std::size_t k = 0; k < r.bone_loads.size(); ++k) {
+    const BoneLoadRecord& a = r.bone_loads[k];
+    const BoneLoadRecord& b = back->bone_loads[k];
+    EXPECT_EQ(a.t_s, b.t_s);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    for (std::size_t i = 0; i < a.points.size(); ++i) {
+      EXPECT_EQ(a.points[i].point_m, b.points[i].point_m);
+      EXPECT_EQ(a.points[i].force_N, b.points[i].force_N);
+      EXPECT_EQ(a.points[i].radius_m, b.points[i].radius_m);
+      EXPECT_EQ(a.points[i].vertebra, b.points[i].vertebra);
+      EXPECT_EQ(a.points[i].source, b.points[i].source);
+    }
+  }
+  EXPECT_EQ(back->frames.size(), r.frames.size());
+  // A vertebra other than C4 or C5 is refused. The bone block ends the recording; its last
+  // load is 30 bytes (point, force, radius as f32, vertebra and source bytes).
+  auto bad = bytes;
+  const std::size_t last_load = bad.size() - 4 * (3 + 3 + 1) - 2;
+  bad[last_load + 28] = 7;  // its vertebra byte
+  EXPECT_FALSE(decode_recording(bad, &error));
+  EXPECT_NE(error.find("vertebra"), std::string::npos) << error;
+  // A recording without bone samples has an empty list (old recordings, box modules).
+  const auto plain = decode_recording(encode_recording(sample_record()), &error);
+  ASSERT_TRUE(plain);
+  EXPECT_TRUE(plain->bone_loads.empty());
+}
+
+}  // namespace
+}  // namespace acdr

@@ -780,3 +780,108 @@ TEST(ScenarioLoaderAnatomy, ShapedBlocksAreChecked) {
 
 }  // namespace
 }  // namespace acdr
+
+namespace acdr {
+namespace {
+
+// anatomy.bone: the finite-element vertebrae. The anatomical modules turn it on, the box
+// module has none; every key converts its unit; bad values, both spellings, materials that
+// are not materials and a bone metric in a rubric without the bone are errors with their place.
+const std::string kBoneKeys = R"("bone": { "element_size_mm": 1.5, "sample_period_ms": 10 })";
+
+TEST(ScenarioLoaderBone, AnatomicalModulesModelTheBoneAndTheBoxDoesNot) {
+  for (const char* m : {"02_c4c5_healthy.json", "03_c4c5_degenerated.json", "04_full_discectomy.json"}) {
+    const LoadResult r = load_scenario_file(test::source_path(std::string("scenarios/modules/") + m));
+    ASSERT_TRUE(r.ok()) << to_string(r.errors);
+    EXPECT_TRUE(r.model->bone.enabled) << m;
+    EXPECT_DOUBLE_EQ(r.model->bone.fem.meshing.size_m, 1.5e-3) << m;
+    EXPECT_DOUBLE_EQ(r.model->world.anatomy.bone_load_period_s, 0.01) << m;
+  }
+  const LoadResult box = load_scenario_file(test::source_path("scenarios/modules/01_box_warmup.json"));
+  ASSERT_TRUE(box.ok()) << to_string(box.errors);
+  EXPECT_FALSE(box.model->bone.enabled);
+  EXPECT_EQ(box.model->world.anatomy.bone_load_period_s, 0.0);
+}
+
+TEST(ScenarioLoaderBone, EveryKeyConvertsToSi) {
+  const std::string text = replace_once(healthy_module_text(), kBoneKeys, R"("bone": {
+        "element_size_m": 0.002, "order": "quadratic", "support_depth_mm": 1.5,
+        "sample_period_s": 0.02, "nucleus_cell_mm": 3,
+        "materials": {
+          "cortical": { "youngs_modulus_MPa": 10000, "poisson_ratio": 0.29, "thickness_mm": 0.3 },
+          "cancellous": { "youngs_modulus_Pa": 2e8 },
+          "endplate": { "youngs_modulus_MPa": 500, "thickness_mm": 0.6 },
+          "posterior": { "poisson_ratio": 0.25 }
+        },
+        "strength": { "endplate_MPa": 10, "posterior_Pa": 3e7, "warning_fraction": 0.6 }
+      })");
+  const LoadResult r = load_scenario_text(text, "m.json");
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  const BoneModelConfig& b = r.model->bone;
+  EXPECT_TRUE(b.enabled);
+  EXPECT_DOUBLE_EQ(b.fem.meshing.size_m, 0.002);
+  EXPECT_EQ(b.fem.order, TetOrder::kQuadratic);
+  EXPECT_DOUBLE_EQ(b.fem.support_depth_m, 1.5e-3);
+  EXPECT_DOUBLE_EQ(b.sample_period_s, 0.02);
+  EXPECT_DOUBLE_EQ(b.nucleus_cell_m, 3e-3);
+  EXPECT_DOUBLE_EQ(b.fem.materials.cortical.youngs_modulus_Pa, 10e9);
+  EXPECT_DOUBLE_EQ(b.fem.materials.cortical.poisson_ratio, 0.29);
+  EXPECT_DOUBLE_EQ(b.fem.materials.shell.cortical_thickness_m, 0.3e-3);
+  EXPECT_DOUBLE_EQ(b.fem.materials.cancellous.youngs_modulus_Pa, 2e8);
+  EXPECT_DOUBLE_EQ(b.fem.materials.endplate.youngs_modulus_Pa, 500e6);
+  EXPECT_DOUBLE_EQ(b.fem.materials.shell.endplate_thickness_m, 0.6e-3);
+  EXPECT_DOUBLE_EQ(b.fem.materials.posterior.poisson_ratio, 0.25);
+  EXPECT_DOUBLE_EQ(b.fem.materials.posterior.youngs_modulus_Pa, 3.5e9);  // default kept
+  EXPECT_DOUBLE_EQ(b.strengths.endplate_Pa, 10e6);
+  EXPECT_DOUBLE_EQ(b.strengths.posterior_Pa, 3e7);
+  EXPECT_DOUBLE_EQ(b.strengths.warning_fraction, 0.6);
+  // The world samples loads at the bone's period, gathering the nucleus over its cells.
+  EXPECT_DOUBLE_EQ(r.model->world.anatomy.bone_load_period_s, 0.02);
+  EXPECT_DOUBLE_EQ(r.model->world.anatomy.bone_load_cell_m, 3e-3);
+  // Turned off: the keys stay valid, nothing is sampled.
+  const LoadResult off = load_scenario_text(
+      replace_once(healthy_module_text(), kBoneKeys, R"("bone": { "enabled": false, "element_size_mm": 2 })"),
+      "m.json");
+  ASSERT_TRUE(off.ok()) << to_string(off.errors);
+  EXPECT_FALSE(off.model->bone.enabled);
+  EXPECT_EQ(off.model->world.anatomy.bone_load_period_s, 0.0);
+}
+
+TEST(ScenarioLoaderBone, BadValuesAreErrorsWithTheirPlace) {
+  const std::string text = replace_once(healthy_module_text(), kBoneKeys, R"("bone": {
+        "element_size_mm": 0.1, "element_size_m": 0.002, "order": "cubic",
+        "sample_period_ms": 0,
+        "materials": { "cancellous": { "poisson_ratio": 0.5, "density": 1 } },
+        "strength": { "warning_fraction": 1.5 }
+      })");
+  const std::vector<ScenarioError> errors = errors_of(text);
+  const std::string all = to_string(errors);
+  // Both spellings of one quantity.
+  EXPECT_NE(all.find("element_size"), std::string::npos) << all;
+  find_error(errors, "/world/anatomy/bone/order");
+  find_error(errors, "/world/anatomy/bone/sample_period_ms");
+  find_error(errors, "/world/anatomy/bone/materials/cancellous/poisson_ratio");
+  find_error(errors, "/world/anatomy/bone/materials/cancellous/density");  // unknown key
+  find_error(errors, "/world/anatomy/bone/strength/warning_fraction");
+  EXPECT_NE(all.find("cubic"), std::string::npos) << all;
+  EXPECT_NE(all.find("quadratic"), std::string::npos) << all;  // what was expected
+}
+
+TEST(ScenarioLoaderBone, ABoneMetricNeedsTheBoneModel) {
+  std::string text = replace_once(healthy_module_text(), kBoneKeys, R"("bone": { "enabled": false })");
+  text = replace_once(text, R"("gates": [)",
+                      R"("gates": [ { "metric": "endplate_peak_stress_MPa", "max": 5 },)");
+  const std::vector<ScenarioError> errors = errors_of(text);
+  const ScenarioError* e = find_error(errors, "/rubric/gates/0/metric");
+  ASSERT_NE(e, nullptr);
+  EXPECT_NE(e->message.find("bone metric without a bone model"), std::string::npos) << e->message;
+  // With the bone model on, the same gate loads.
+  const std::string on = replace_once(healthy_module_text(), R"("gates": [)",
+                                      R"("gates": [ { "metric": "endplate_peak_stress_MPa", "max": 5 },)");
+  const LoadResult r = load_scenario_text(on, "m.json");
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  EXPECT_EQ(r.model->rubric.gates[0].metric, "endplate_peak_stress_MPa");
+}
+
+}  // namespace
+}  // namespace acdr

@@ -9,6 +9,7 @@
 
 #include "engine/geometry/mesh_io.hpp"
 #include "engine/world/world.hpp"
+#include "tests/engine/anatomy/coarse_segment_scene.hpp"
 
 namespace acdr {
 namespace {
@@ -16,15 +17,7 @@ namespace {
 constexpr double kMm = 1e-3;
 
 /// A coarse anatomy that builds in well under a second.
-AnatomyConfig coarse(const std::string& cache_dir) {
-  AnatomyConfig a;
-  a.enabled = true;
-  a.segment.mesh_spacing_m = 0.9e-3;
-  a.sdf.spacing_m = 0.5e-3;
-  a.zone_sdf_spacing_m = 0.8e-3;
-  a.cache_dir = cache_dir;
-  return a;
-}
+AnatomyConfig coarse(const std::string& cache_dir) { return test::coarse_anatomy(cache_dir); }
 
 class AnatomyTest : public ::testing::Test {
  protected:
@@ -119,27 +112,7 @@ TEST(ParticleBlock, EllipticRingWithWindow) {
 }
 
 TEST_F(AnatomyTest, WorldStepsWithBoneAndZoneSamples) {
-  WorldConfig w;
-  w.anatomy = coarse(dir_);
-  w.gravity_m_s2 = Vec3(0, 0, -kStandardGravity);
-  w.nucleus.enabled = true;
-  w.nucleus.spacing_m = 1.0e-3;
-  w.nucleus.materials.emplace_back();
-  ParticleBlockConfig nucleus;
-  nucleus.min_m = Vec3(-4, -2.95, -4) * kMm;
-  nucleus.max_m = Vec3(4, 2.95, 3) * kMm;
-  nucleus.shape = BlockShape::kEllipticCylinder;
-  nucleus.center_m = Vec3(0, 0, -0.5) * kMm;
-  nucleus.semi_a_m = 4 * kMm;
-  nucleus.semi_b_m = 3.5 * kMm;
-  w.nucleus.blocks.push_back(nucleus);
-  w.removal.min_m = Vec3(-10, -3.5, -8.5) * kMm;
-  w.removal.max_m = Vec3(10, 3.5, 9) * kMm;
-  w.instrument.enabled = true;
-  w.instrument.shape = InstrumentShape::kCupCurette;
-  w.instrument.cup_diameter_m = 3 * kMm;
-  // The cup 1 mm in front of the disc space, shaft along -z (the approach from anterior).
-  w.instrument_start.position = Vec3(0, 0, (9.05 + 1.9 + 80) * kMm);
+  const WorldConfig w = test::coarse_segment_world(dir_);
   World world(w);
   ASSERT_NE(world.anatomy(), nullptr);
   EXPECT_EQ(world.summary().zones.size(), 7u);
@@ -147,8 +120,7 @@ TEST_F(AnatomyTest, WorldStepsWithBoneAndZoneSamples) {
   EXPECT_GT(world.summary().initial_target, 100);
   // Push the cup down onto the C5 endplate's front edge: bone contact is measured.
   DeviceSample s;
-  s.pose = w.instrument_start;
-  s.pose.position += Vec3(0, -3 * kMm, -6 * kMm);
+  s.pose = test::coarse_segment_push(w);
   double peak_contact = 0.0;
   for (int i = 0; i < 300; ++i) {
     s.t_s = world.time_s();
