@@ -62,12 +62,12 @@
 #include <cstring>
 
 #include "engine/core/state_hash.hpp"
+#include "engine/nucleus/neighbor_grid.hpp"
 
 namespace acdr {
 namespace {
 
 constexpr int kCalmStepsToSleep = 20;   // steps below the sleep speed before sleeping
-constexpr int kMaxWallHitsPerParticle = 4;
 constexpr double kMaxSpeed_m_s = 100.0;  // above this a particle is reported as a blow-up
 // A particle's static-collider mask (setup_walls) holds while it stays this close (in units
 // of h) to where the mask was found.
@@ -133,19 +133,23 @@ inline bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite
 Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
                  const Vec3& gravity_m_s2, std::span<const Collider> static_colliders,
                  const NucleusOptions& options)
-    : config_(config), solver_(solver), options_(options), gravity_(gravity_m_s2) {
-  h_ = config.spacing_m;
-  const double contact = options.contact_radius_factor * h_;
+{
+  model_.config = config;
+  model_.solver = solver;
+  model_.options = options;
+  model_.gravity = gravity_m_s2;
+  model_.h = config.spacing_m;
+  const double contact = options.contact_radius_factor * model_.h;
   // Lattice points at min + (i + 1/2) h: a block that fills a box touches its walls at h/2.
   NucleusParticleSetup setup;
   for (const auto& block : config.blocks) {
     Eigen::Vector3i n;
     for (int a = 0; a < 3; ++a)
-      n[a] = std::max(1, static_cast<int>(std::lround((block.max_m[a] - block.min_m[a]) / h_)));
+      n[a] = std::max(1, static_cast<int>(std::lround((block.max_m[a] - block.min_m[a]) / model_.h)));
     for (int k = 0; k < n.z(); ++k)
       for (int j = 0; j < n.y(); ++j)
         for (int i = 0; i < n.x(); ++i) {
-          const Vec3 p = block.min_m + h_ * Vec3(i + 0.5, j + 0.5, k + 0.5);
+          const Vec3 p = block.min_m + model_.h * Vec3(i + 0.5, j + 0.5, k + 0.5);
           if (!block.contains(p)) continue;  // anatomy: cylinder, ring, cutout
           bool inside = false;
           for (const auto& c : static_colliders)
@@ -158,7 +162,7 @@ Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
   // Bonds between lattice neighbours closer than bond_radius_factor * h (brute force over a
   // temporary grid; construction only).
   const std::size_t n = setup.positions_m.size();
-  const double bond_r = config.bond_radius_factor * h_;
+  const double bond_r = config.bond_radius_factor * model_.h;
   NeighborGrid grid;
   grid.reserve(n);
   grid.build(setup.positions_m, bond_r, {false, false, false}, Vec3::Zero(), Vec3::Zero());
@@ -186,8 +190,12 @@ Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
 Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
                  const Vec3& gravity_m_s2, std::span<const Collider> static_colliders,
                  const NucleusParticleSetup& setup, const NucleusOptions& options)
-    : config_(config), solver_(solver), options_(options), gravity_(gravity_m_s2) {
-  h_ = config.spacing_m;
+{
+  model_.config = config;
+  model_.solver = solver;
+  model_.options = options;
+  model_.gravity = gravity_m_s2;
+  model_.h = config.spacing_m;
   NucleusParticleSetup copy = setup;
   if (!options.bonds_enabled) copy.bonds.clear();
   init(static_colliders, copy);
@@ -195,290 +203,280 @@ Nucleus::Nucleus(const NucleusConfig& config, const SolverConfig& solver,
 
 void Nucleus::init(std::span<const Collider> static_colliders,
                    const NucleusParticleSetup& setup) {
-  assert(h_ > 0.0 && "nucleus spacing must be positive");
-  statics_.assign(static_colliders.begin(), static_colliders.end());
-  if (config_.materials.empty()) config_.materials.emplace_back();
-  volume_ = h_ * h_ * h_;
-  radius_ = options_.neighbor_radius_factor * h_;
-  density_radius_ = std::min(options_.density_radius_factor * h_, radius_);
-  contact_ = options_.contact_radius_factor * h_;
+  assert(model_.h > 0.0 && "nucleus spacing must be positive");
+  model_.statics.assign(static_colliders.begin(), static_colliders.end());
+  if (model_.config.materials.empty()) model_.config.materials.emplace_back();
+  model_.volume = model_.h * model_.h * model_.h;
+  model_.radius = model_.options.neighbor_radius_factor * model_.h;
+  model_.density_radius = std::min(model_.options.density_radius_factor * model_.h, model_.radius);
+  model_.contact = model_.options.contact_radius_factor * model_.h;
 
   // Rest sums of the full cubic lattice: the normalisations n0 (density) and s0 (viscosity).
-  n0_ = 1.0;
-  s0_ = 0.0;
-  t0_ = 0.0;
-  site_offset_.clear();
-  site_w_.clear();
-  site_r2_.clear();
-  site_wv_.clear();
-  site_len_.clear();
-  site_uu_.clear();
-  const int m = static_cast<int>(std::ceil(options_.neighbor_radius_factor));
+  model_.n0 = 1.0;
+  model_.s0 = 0.0;
+  model_.t0 = 0.0;
+  model_.sites.offset.clear();
+  model_.sites.w.clear();
+  model_.sites.r2.clear();
+  model_.sites.wv.clear();
+  model_.sites.len.clear();
+  model_.sites.uu.clear();
+  const int m = static_cast<int>(std::ceil(model_.options.neighbor_radius_factor));
   for (int a = -m; a <= m; ++a)
     for (int b = -m; b <= m; ++b)
       for (int c = -m; c <= m; ++c) {
         if (a == 0 && b == 0 && c == 0) continue;
-        const double r = h_ * std::sqrt(double(a * a + b * b + c * c));
-        if (r >= radius_) continue;
-        const double wv = viscous_weight(r, radius_);
-        n0_ += kernel(r, density_radius_);
-        s0_ += wv * r * r;
-        t0_ += wv * (a * h_) * (a * h_) * (c * h_) * (c * h_) / (r * r);
-        site_offset_.push_back(h_ * Vec3(a, b, c));
-        site_w_.push_back(kernel(r, density_radius_));
-        site_wv_.push_back(wv);
-        site_r2_.push_back(r * r);
-        site_len_.push_back(r);
-        const Vec3 u = h_ * Vec3(a, b, c) / r;
-        site_uu_.push_back(u * u.transpose());
+        const double r = model_.h * std::sqrt(double(a * a + b * b + c * c));
+        if (r >= model_.radius) continue;
+        const double wv = viscous_weight(r, model_.radius);
+        model_.n0 += kernel(r, model_.density_radius);
+        model_.s0 += wv * r * r;
+        model_.t0 += wv * (a * model_.h) * (a * model_.h) * (c * model_.h) * (c * model_.h) / (r * r);
+        model_.sites.offset.push_back(model_.h * Vec3(a, b, c));
+        model_.sites.w.push_back(kernel(r, model_.density_radius));
+        model_.sites.wv.push_back(wv);
+        model_.sites.r2.push_back(r * r);
+        model_.sites.len.push_back(r);
+        const Vec3 u = model_.h * Vec3(a, b, c) / r;
+        model_.sites.uu.push_back(u * u.transpose());
       }
 
   build_wall_table();
 
   const std::size_t n = setup.positions_m.size();
-  x_ = setup.positions_m;
-  v_.assign(n, Vec3::Zero());
-  if (setup.velocities_m_s.size() == n) v_ = setup.velocities_m_s;
-  x_start_ = x_;
-  f_ext_.assign(n, Vec3::Zero());
-  fixed_v_.assign(n, Vec3::Zero());
-  material_.assign(n, 0);
-  if (setup.materials.size() == n) material_ = setup.materials;
-  fixed_.assign(n, 0);
-  if (setup.fixed.size() == n) fixed_ = setup.fixed;
-  mass_.resize(n);
-  mu_.resize(n);
-  kappa_.resize(n);
+  state_.x = setup.positions_m;
+  state_.v.assign(n, Vec3::Zero());
+  if (setup.velocities_m_s.size() == n) state_.v = setup.velocities_m_s;
+  work_.step.x_start = state_.x;
+  state_.f_ext.assign(n, Vec3::Zero());
+  state_.fixed_v.assign(n, Vec3::Zero());
+  model_.material.assign(n, 0);
+  if (setup.materials.size() == n) model_.material = setup.materials;
+  model_.fixed.assign(n, 0);
+  if (setup.fixed.size() == n) model_.fixed = setup.fixed;
+  model_.mass.resize(n);
+  model_.mu.resize(n);
+  model_.kappa.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    material_[i] = static_cast<std::uint8_t>(
-        std::min<std::size_t>(material_[i], config_.materials.size() - 1));
-    const MaterialConfig& mat = config_.materials[material_[i]];
-    mass_[i] = mat.density_kg_m3 * volume_;
-    mu_[i] = mat.viscosity_Pa_s;
-    kappa_[i] = mat.bulk_modulus_Pa;
+    model_.material[i] = static_cast<std::uint8_t>(
+        std::min<std::size_t>(model_.material[i], model_.config.materials.size() - 1));
+    const MaterialConfig& mat = model_.config.materials[model_.material[i]];
+    model_.mass[i] = mat.density_kg_m3 * model_.volume;
+    model_.mu[i] = mat.viscosity_Pa_s;
+    model_.kappa[i] = mat.bulk_modulus_Pa;
   }
-  awake_.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i) awake_[i] = fixed_[i] ? 0 : 1;
-  wake_next_.assign(n, 0);
-  calm_.assign(n, 0);
-  release_.assign(n, 0);
-  pressure_.assign(n, 0.0);
-  body_force_.assign(n, Vec3::Zero());
-  active_.assign(n, 0);
-  active_count_ = 0;
+  state_.awake.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) state_.awake[i] = model_.fixed[i] ? 0 : 1;
+  state_.wake_next.assign(n, 0);
+  state_.calm.assign(n, 0);
+  state_.release.assign(n, 0);
+  state_.pressure.assign(n, 0.0);
+  state_.body_force.assign(n, Vec3::Zero());
+  state_.active.assign(n, 0);
+  state_.active_count = 0;
   for (std::size_t i = 0; i < n; ++i)
-    if (awake_[i]) active_[active_count_++] = static_cast<std::int32_t>(i);
-  fixed_list_.clear();
+    if (state_.awake[i]) state_.active[state_.active_count++] = static_cast<std::int32_t>(i);
+  model_.fixed_list.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (fixed_[i]) fixed_list_.push_back(static_cast<std::int32_t>(i));
-  wake_list_.assign(n, 0);
-  wake_count_ = 0;
-  stamp_.assign(n, 0);
+    if (model_.fixed[i]) model_.fixed_list.push_back(static_cast<std::int32_t>(i));
+  state_.wake_list.assign(n, 0);
+  state_.wake_count = 0;
+  work_.stamp.assign(n, 0);
 
   const std::size_t nb = setup.bonds.size();
-  bond_ij_.resize(2 * nb);
-  bond_rest_.resize(nb);
-  bond_k_.resize(nb);
-  bond_break_.resize(nb);
-  bond_alive_.assign(nb, 1);
-  bond_in_pair_.assign(nb, 0);
+  model_.bonds.ij.resize(2 * nb);
+  model_.bonds.rest.resize(nb);
+  model_.bonds.k.resize(nb);
+  model_.bonds.break_stretch.resize(nb);
+  state_.bond_alive.assign(nb, 1);
+  work_.loose.in_pair.assign(nb, 0);
   for (std::size_t b = 0; b < nb; ++b) {
     const auto& bond = setup.bonds[b];
     assert(bond.i >= 0 && bond.j >= 0 && std::size_t(bond.i) < n && std::size_t(bond.j) < n);
-    bond_ij_[2 * b] = bond.i;
-    bond_ij_[2 * b + 1] = bond.j;
-    bond_rest_[b] = bond.rest_length_m >= 0.0 ? bond.rest_length_m
-                                              : (x_[bond.j] - x_[bond.i]).norm();
-    bond_k_[b] = bond.stiffness_N_m;
-    bond_break_[b] = bond.break_stretch_m;
+    model_.bonds.ij[2 * b] = bond.i;
+    model_.bonds.ij[2 * b + 1] = bond.j;
+    model_.bonds.rest[b] = bond.rest_length_m >= 0.0 ? bond.rest_length_m
+                                              : (state_.x[bond.j] - state_.x[bond.i]).norm();
+    model_.bonds.k[b] = bond.stiffness_N_m;
+    model_.bonds.break_stretch[b] = bond.break_stretch_m;
   }
   // Squared lengths at which each bond breaks (break_bonds), 0 and +inf when unbreakable.
-  bond_break_hi2_.assign(nb, std::numeric_limits<double>::infinity());
-  bond_break_lo2_.assign(nb, 0.0);
+  model_.bonds.break_hi2.assign(nb, std::numeric_limits<double>::infinity());
+  model_.bonds.break_lo2.assign(nb, 0.0);
   for (std::size_t b = 0; b < nb; ++b) {
-    if (bond_break_[b] <= 0.0) continue;
-    const double hi = bond_rest_[b] + bond_break_[b], lo = bond_rest_[b] - bond_break_[b];
-    bond_break_hi2_[b] = hi * hi;
-    bond_break_lo2_[b] = lo > 0.0 ? lo * lo : 0.0;
+    if (model_.bonds.break_stretch[b] <= 0.0) continue;
+    const double hi = model_.bonds.rest[b] + model_.bonds.break_stretch[b], lo = model_.bonds.rest[b] - model_.bonds.break_stretch[b];
+    model_.bonds.break_hi2[b] = hi * hi;
+    model_.bonds.break_lo2[b] = lo > 0.0 ? lo * lo : 0.0;
   }
-  periodic_ = options_.periodic[0] || options_.periodic[1] || options_.periodic[2];
-  loose_possible_ = false;
+  model_.periodic = model_.options.periodic[0] || model_.options.periodic[1] || model_.options.periodic[2];
+  model_.bonds.loose_possible = false;
   for (std::size_t b = 0; b < nb; ++b)
-    if (bond_break_[b] <= 0.0 || bond_rest_[b] + bond_break_[b] >= radius_) loose_possible_ = true;
+    if (model_.bonds.break_stretch[b] <= 0.0 || model_.bonds.rest[b] + model_.bonds.break_stretch[b] >= model_.radius) model_.bonds.loose_possible = true;
   // Bonds of each particle (CSR), in bond order.
-  bond_adj_start_.assign(n + 1, 0);
+  model_.bonds.adj_start.assign(n + 1, 0);
   for (std::size_t b = 0; b < nb; ++b) {
-    ++bond_adj_start_[bond_ij_[2 * b] + 1];
-    ++bond_adj_start_[bond_ij_[2 * b + 1] + 1];
+    ++model_.bonds.adj_start[model_.bonds.ij[2 * b] + 1];
+    ++model_.bonds.adj_start[model_.bonds.ij[2 * b + 1] + 1];
   }
-  for (std::size_t i = 0; i < n; ++i) bond_adj_start_[i + 1] += bond_adj_start_[i];
-  bond_adj_.assign(2 * nb, 0);
+  for (std::size_t i = 0; i < n; ++i) model_.bonds.adj_start[i + 1] += model_.bonds.adj_start[i];
+  model_.bonds.adj.assign(2 * nb, 0);
   {
-    std::vector<std::int32_t> cursor(bond_adj_start_.begin(), bond_adj_start_.end() - 1);
+    std::vector<std::int32_t> cursor(model_.bonds.adj_start.begin(), model_.bonds.adj_start.end() - 1);
     for (std::size_t b = 0; b < nb; ++b) {
-      bond_adj_[cursor[bond_ij_[2 * b]]++] = static_cast<std::int32_t>(b);
-      bond_adj_[cursor[bond_ij_[2 * b + 1]]++] = static_cast<std::int32_t>(b);
+      model_.bonds.adj[cursor[model_.bonds.ij[2 * b]]++] = static_cast<std::int32_t>(b);
+      model_.bonds.adj[cursor[model_.bonds.ij[2 * b + 1]]++] = static_cast<std::int32_t>(b);
     }
   }
-  loose_.assign(nb, 0);
-  loose_ij_.assign(2 * nb, 0);
-  loose_n_.assign(nb, Vec3::Zero());
-  loose_a_.assign(nb, 0.0);
+  work_.loose.bond.assign(nb, 0);
+  work_.loose.ij.assign(2 * nb, 0);
+  work_.loose.n.assign(nb, Vec3::Zero());
+  work_.loose.a.assign(nb, 0.0);
 
   // Fixed capacities: nothing below allocates during step().
-  skin_ = options_.skin_factor * h_;
+  model_.skin = model_.options.skin_factor * model_.h;
   std::size_t lattice = 0;  // lattice sites within R + skin
   {
-    const double reach = options_.neighbor_radius_factor + options_.skin_factor;
+    const double reach = model_.options.neighbor_radius_factor + model_.options.skin_factor;
     const int mm = static_cast<int>(std::ceil(reach));
     for (int a = -mm; a <= mm; ++a)
       for (int b = -mm; b <= mm; ++b)
         for (int c = -mm; c <= mm; ++c)
           if (a * a + b * b + c * c > 0 && a * a + b * b + c * c < reach * reach) ++lattice;
   }
-  grid_.reserve(std::max<std::size_t>(n, 1));
-  x_built_.assign(n, Vec3::Zero());
-  grid_valid_ = false;
-  epoch_ = 0;
-  row_epoch_.assign(n, 0);
-  row_start_.assign(n, 0);
-  row_len_.assign(n, 0);
+  work_.rows.grid.reserve(std::max<std::size_t>(n, 1));
+  work_.rows.x_built.assign(n, Vec3::Zero());
+  work_.rows.grid_valid = false;
+  work_.rows.epoch = 0;
+  work_.rows.epoch_of.assign(n, 0);
+  work_.rows.start.assign(n, 0);
+  work_.rows.len.assign(n, 0);
   // Every particle's row once per grid build, with room for 50 % compression.
   const std::size_t row_cap = std::max<std::size_t>(64, n * (lattice * 3 / 2 + 8));
-  row_j_.assign(row_cap, 0);
-  row_bond_.assign(row_cap, -1);
-  row_scratch_j_.assign(4 * lattice + 64, 0);
-  row_scratch_b_.assign(4 * lattice + 64, 0);
-  row_scratch_bucket_.assign(4 * lattice + 64, 0);
-  row_scratch_r2_.assign(4 * lattice + 64, 0.0f);
-  row_upper_.assign(n, 0);
-  row_beyond_.assign(n, 0);
-  row_r2_.assign(row_cap, 0.0f);
-  row_used_ = 0;
-  partner_bond_.assign(n, -1);
+  work_.rows.j.assign(row_cap, 0);
+  work_.rows.bond.assign(row_cap, -1);
+  work_.rows.scratch_j.assign(4 * lattice + 64, 0);
+  work_.rows.scratch_bond.assign(4 * lattice + 64, 0);
+  work_.rows.scratch_bucket.assign(4 * lattice + 64, 0);
+  work_.rows.scratch_r2.assign(4 * lattice + 64, 0.0f);
+  work_.rows.upper.assign(n, 0);
+  work_.rows.beyond.assign(n, 0);
+  work_.rows.r2.assign(row_cap, 0.0f);
+  work_.rows.used = 0;
+  work_.rows.partner_bond.assign(n, -1);
 
-  local_.assign(n, -1);
-  lg_.assign(n, 0);
-  na_ = nh_ = nl_ = 0;
-  pair_cap_ = std::max<std::size_t>(16, n * std::max<std::size_t>(options_.max_neighbors, 1) / 2);
-  pair_i_.assign(pair_cap_, 0);
-  pair_j_.assign(pair_cap_, 0);
-  pair_n_.assign(pair_cap_, Vec3::Zero());
-  pair_r_.assign(pair_cap_, 0.0);
-  pair_a_.assign(pair_cap_, 0.0);
-  pair_g_.assign(pair_cap_, 0.0);
-  pair_bond_.assign(pair_cap_, -1);
-  kernel_.assign(pair_cap_, PairKernel{0.0f, 0.0f, 0.0f, 0.0f, 0, 0.0f});
-  pair_dn_.assign(pair_cap_, 0.0f);
-  apply_x_.assign(n, F4{0.0f, 0.0f, 0.0f, 0.0f});
-  apply_y_.assign(n, F4{0.0f, 0.0f, 0.0f, 0.0f});
-  apply_s_.assign(n, 0.0f);
-  row_near_.assign(n + 1, 0);
-  row_far_.assign(n + 1, 0);
+  work_.step.local.assign(n, -1);
+  work_.step.global.assign(n, 0);
+  work_.step.awake_end = work_.step.halo_end = work_.step.outer_end = 0;
+  work_.pairs.cap = std::max<std::size_t>(16, n * std::max<std::size_t>(model_.options.max_neighbors, 1) / 2);
+  work_.pairs.i.assign(work_.pairs.cap, 0);
+  work_.pairs.j.assign(work_.pairs.cap, 0);
+  work_.pairs.n.assign(work_.pairs.cap, Vec3::Zero());
+  work_.pairs.r.assign(work_.pairs.cap, 0.0);
+  work_.pairs.wv.assign(work_.pairs.cap, 0.0);
+  work_.pairs.g.assign(work_.pairs.cap, 0.0);
+  work_.pairs.bond.assign(work_.pairs.cap, -1);
+  work_.pairs.kernel.assign(work_.pairs.cap, PairKernel{0.0f, 0.0f, 0.0f, 0.0f, 0, 0.0f});
+  work_.apply.dn.assign(work_.pairs.cap, 0.0f);
+  work_.apply.x.assign(n, F4{0.0f, 0.0f, 0.0f, 0.0f});
+  work_.apply.y.assign(n, F4{0.0f, 0.0f, 0.0f, 0.0f});
+  work_.apply.s.assign(n, 0.0f);
+  work_.pairs.row_near.assign(n + 1, 0);
+  work_.pairs.row_far.assign(n + 1, 0);
 
-  second_moment_.assign(n, 0.0);
-  density_.assign(n, 0.0);
-  constraint_.assign(n, 0.0);
-  press_coef_.assign(n, 0.0);
-  visc_coef_.assign(n, 0.0);
-  s_pf_.assign(n, 0.0);
-  s_hv_.assign(n, 0.0);
-  mass_l_.assign(n, 0.0);
-  rhs_.assign(n, Vec3::Zero());
-  diag_inv_.assign(n, {1, 1, 1, 0, 0, 0});
-  vel_.assign(n, Vec3::Zero());
-  r_.assign(n, Vec3::Zero());
-  z_.assign(n, Vec3::Zero());
-  p_.assign(n, Vec3::Zero());
-  q_.assign(n, Vec3::Zero());
-  s_.assign(n, 0.0);
-  wall_particle_.assign(n, 0);
-  wall_c_.assign(n, Eigen::Matrix3d::Zero());
-  wall_g_.assign(n, Vec3::Zero());
-  wall_slot_.assign(n, -1);
-  wall_particles_ = 0;
-  con_particle_.assign(n, 0);
-  con_count_.assign(n, 0);
-  con_e_.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
-  con_v_.assign(n, Vec3::Zero());
-  con_slot_.assign(n, -1);
-  con_av_.assign(n, Vec3::Zero());
-  con_aq_.assign(n, Vec3::Zero());
-  con_particles_ = 0;
-  near_colliders_.assign(n, 0);
-  all_colliders_.assign(n, 0);
-  static_ref_.assign(n, Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
-  static_mask_.assign(n, 0);
-  walls_.resize(kMaxWallHitsPerParticle * n + 16);
-  site_cache_.assign(kMaxWallHitsPerParticle * n, SiteSums{});
-  site_cache_next_.assign(n, 0);
-  site_local_.assign(32 * site_offset_.size(), Vec3::Zero());
-  cache_turn_cos_ = std::cos(0.5 * solver_.wall_sum_cache_tolerance * h_ / radius_);
+  work_.sys.second_moment.assign(n, 0.0);
+  work_.sys.density.assign(n, 0.0);
+  work_.sys.constraint.assign(n, 0.0);
+  work_.sys.press_coef.assign(n, 0.0);
+  work_.sys.visc_coef.assign(n, 0.0);
+  work_.sys.press_force.assign(n, 0.0);
+  work_.sys.half_visc.assign(n, 0.0);
+  work_.sys.mass.assign(n, 0.0);
+  work_.sys.rhs.assign(n, Vec3::Zero());
+  work_.sys.diag_inv.assign(n, {1, 1, 1, 0, 0, 0});
+  work_.pcg.v.assign(n, Vec3::Zero());
+  work_.pcg.r.assign(n, Vec3::Zero());
+  work_.pcg.z.assign(n, Vec3::Zero());
+  work_.pcg.p.assign(n, Vec3::Zero());
+  work_.pcg.q.assign(n, Vec3::Zero());
+  work_.sys.div.assign(n, 0.0);
+  work_.walls.particle.assign(n, 0);
+  work_.walls.c.assign(n, Eigen::Matrix3d::Zero());
+  work_.walls.g.assign(n, Vec3::Zero());
+  work_.walls.slot.assign(n, -1);
+  work_.walls.particles = 0;
+  work_.contacts.particle.assign(n, 0);
+  work_.contacts.count.assign(n, 0);
+  work_.contacts.e.assign(n, {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  work_.contacts.v.assign(n, Vec3::Zero());
+  work_.contacts.slot.assign(n, -1);
+  work_.contacts.av.assign(n, Vec3::Zero());
+  work_.contacts.aq.assign(n, Vec3::Zero());
+  work_.contacts.particles = 0;
+  work_.cull.near_colliders.assign(n, 0);
+  work_.cull.all_colliders.assign(n, 0);
+  work_.cull.static_ref.assign(n, Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+  work_.cull.static_mask.assign(n, 0);
+  work_.walls.hits.resize(kMaxWallHitsPerParticle * n + 16);
+  work_.site_cache.entries.assign(kMaxWallHitsPerParticle * n, SiteSums{});
+  work_.site_cache.next.assign(n, 0);
+  work_.frames.site_local.assign(32 * model_.sites.offset.size(), Vec3::Zero());
+  model_.cache_turn_cos = std::cos(0.5 * model_.solver.wall_sum_cache_tolerance * model_.h / model_.radius);
 }
 
 // ------------------------------------------------------------------------------------------
 // Accessors
 
-std::size_t Nucleus::particle_count() const { return x_.size(); }
-std::span<const Vec3> Nucleus::positions() const { return x_; }
-std::span<const Vec3> Nucleus::velocities() const { return v_; }
-std::span<const std::uint8_t> Nucleus::materials() const { return material_; }
-double Nucleus::particle_volume_m3() const { return volume_; }
-std::size_t Nucleus::bond_count() const { return bond_rest_.size(); }
-std::size_t Nucleus::broken_bond_count() const { return broken_; }
-std::size_t Nucleus::active_count() const { return active_count_; }
-const NucleusConfig& Nucleus::config() const { return config_; }
-std::span<const double> Nucleus::masses() const { return mass_; }
-std::span<Vec3> Nucleus::external_forces() { return f_ext_; }
-std::span<const double> Nucleus::pressures() const { return pressure_; }
-std::span<const Vec3> Nucleus::body_forces() const { return body_force_; }
-std::span<const std::uint8_t> Nucleus::bond_alive() const { return bond_alive_; }
-std::span<const std::int32_t> Nucleus::bond_particles() const { return bond_ij_; }
-void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { fixed_v_[i] = v; }
-void Nucleus::set_gravity(const Vec3& g) { gravity_ = g; }
-std::size_t Nucleus::pair_count() const { return pairs_; }
+std::size_t Nucleus::particle_count() const { return state_.x.size(); }
+std::span<const Vec3> Nucleus::positions() const { return state_.x; }
+std::span<const Vec3> Nucleus::velocities() const { return state_.v; }
+std::span<const std::uint8_t> Nucleus::materials() const { return model_.material; }
+double Nucleus::particle_volume_m3() const { return model_.volume; }
+std::size_t Nucleus::bond_count() const { return model_.bonds.rest.size(); }
+std::size_t Nucleus::broken_bond_count() const { return state_.broken_bonds; }
+std::size_t Nucleus::active_count() const { return state_.active_count; }
+const NucleusConfig& Nucleus::config() const { return model_.config; }
+std::span<const double> Nucleus::masses() const { return model_.mass; }
+std::span<Vec3> Nucleus::external_forces() { return state_.f_ext; }
+std::span<const double> Nucleus::pressures() const { return state_.pressure; }
+std::span<const Vec3> Nucleus::body_forces() const { return state_.body_force; }
+std::span<const std::uint8_t> Nucleus::bond_alive() const { return state_.bond_alive; }
+std::span<const std::int32_t> Nucleus::bond_particles() const { return model_.bonds.ij; }
+void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { state_.fixed_v[i] = v; }
+void Nucleus::set_gravity(const Vec3& g) { model_.gravity = g; }
+std::size_t Nucleus::pair_count() const { return work_.pairs.count; }
 
 double Nucleus::kinetic_energy_J() const {
   double e = 0.0;
-  for (std::size_t i = 0; i < x_.size(); ++i) e += 0.5 * mass_[i] * v_[i].squaredNorm();
+  for (std::size_t i = 0; i < state_.x.size(); ++i) e += 0.5 * model_.mass[i] * state_.v[i].squaredNorm();
   return e;
 }
 
 double Nucleus::mechanical_energy_J() const {
   double e = kinetic_energy_J();
-  for (std::size_t i = 0; i < x_.size(); ++i) {
-    e -= mass_[i] * gravity_.dot(x_[i]);
-    if (kappa_[i] > 0.0) e += 0.5 * volume_ * pressure_[i] * pressure_[i] / kappa_[i];
+  for (std::size_t i = 0; i < state_.x.size(); ++i) {
+    e -= model_.mass[i] * model_.gravity.dot(state_.x[i]);
+    if (model_.kappa[i] > 0.0) e += 0.5 * model_.volume * state_.pressure[i] * state_.pressure[i] / model_.kappa[i];
   }
-  for (std::size_t b = 0; b < bond_alive_.size(); ++b) {
-    if (!bond_alive_[b]) continue;
+  for (std::size_t b = 0; b < state_.bond_alive.size(); ++b) {
+    if (!state_.bond_alive[b]) continue;
     const double stretch =
-        min_image(x_[bond_ij_[2 * b + 1]] - x_[bond_ij_[2 * b]]).norm() - bond_rest_[b];
-    e += 0.5 * bond_k_[b] * stretch * stretch;
+        min_image(model_, state_.x[model_.bonds.ij[2 * b + 1]] - state_.x[model_.bonds.ij[2 * b]]).norm() - model_.bonds.rest[b];
+    e += 0.5 * model_.bonds.k[b] * stretch * stretch;
   }
   return e;
 }
-double Nucleus::spacing_m() const { return h_; }
+double Nucleus::spacing_m() const { return model_.h; }
 
 std::uint64_t Nucleus::state_hash() const {
   std::uint64_t h = kFnvOffset;
-  if (!x_.empty()) {
-    h = fnv1a(x_.data(), x_.size() * sizeof(Vec3), h);
-    h = fnv1a(v_.data(), v_.size() * sizeof(Vec3), h);
+  if (!state_.x.empty()) {
+    h = fnv1a(state_.x.data(), state_.x.size() * sizeof(Vec3), h);
+    h = fnv1a(state_.v.data(), state_.v.size() * sizeof(Vec3), h);
   }
   return h;
 }
 
-Vec3 Nucleus::min_image(const Vec3& d) const {
-  if (!periodic_) return d;
-  Vec3 out = d;
-  for (int a = 0; a < 3; ++a) {
-    if (!options_.periodic[a]) continue;
-    const double L = options_.periodic_max_m[a] - options_.periodic_min_m[a];
-    out[a] -= L * std::round(out[a] / L);
-  }
-  return out;
-}
 
 // ------------------------------------------------------------------------------------------
 // The step
@@ -494,8 +492,8 @@ Vec3 Nucleus::min_image(const Vec3& d) const {
 void Nucleus::step(double dt, std::span<const Collider> moving,
                    std::span<BodyReaction> reactions, NumericalReport& report) {
   report = NumericalReport{};
-  assert(moving.size() <= std::size_t(kMaxMoving) && "too many moving colliders");
-  assert(statics_.size() + moving.size() <= 32 && "collider masks hold 32 colliders");
+  assert(moving.size() <= std::size_t(kMaxMovingColliders) && "too many moving colliders");
+  assert(model_.statics.size() + moving.size() <= 32 && "collider masks hold 32 colliders");
   assert(dt > 0.0);
   for (auto& r : reactions) {
     r.force_N = Vec3::Zero();
@@ -503,26 +501,26 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
     r.drag_Ns_m = 0.0;
     r.rot_drag_Nms = 0.0;
   }
-  if (x_.empty()) return;
+  if (state_.x.empty()) return;
   for (std::size_t m = 0; m < moving.size(); ++m) {
-    end_pose_[m] = advance(moving[m].pose, moving[m].linear_velocity_m_s,
+    work_.frames.end_pose[m] = advance(moving[m].pose, moving[m].linear_velocity_m_s,
                            moving[m].angular_velocity_rad_s, dt);
-    const Quat& q = end_pose_[m].orientation;
-    end_identity_[m] = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
+    const Quat& q = work_.frames.end_pose[m].orientation;
+    work_.frames.end_identity[m] = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
   }
   // The last step's particles leave the local numbering (and their body forces reset: only
   // they were written).
-  for (std::size_t k = 0; k < nl_; ++k) {
-    body_force_[lg_[k]] = Vec3::Zero();
-    local_[lg_[k]] = -1;
+  for (std::size_t k = 0; k < work_.step.outer_end; ++k) {
+    state_.body_force[work_.step.global[k]] = Vec3::Zero();
+    work_.step.local[work_.step.global[k]] = -1;
   }
-  na_ = nh_ = nl_ = 0;
-  pairs_overflow_ = false;
+  work_.step.awake_end = work_.step.halo_end = work_.step.outer_end = 0;
+  work_.pairs.overflow = false;
 
   update_grid();
   wake_and_sleep(moving, dt);
   build_pairs();
-  if (pairs_overflow_) {
+  if (work_.pairs.overflow) {
     report.ok = false;
     report.stage = "neighbors";
   }
@@ -530,8 +528,8 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   setup_walls(dt, moving);
   assemble(dt);
   solve(report);
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const Vec3& v = v_[active_[k]];
+  for (std::size_t k = 0; k < state_.active_count; ++k) {
+    const Vec3& v = state_.v[state_.active[k]];
     if (!finite(v)) {
       if (report.ok) report.stage = "solve";
       report.ok = false;
@@ -540,10 +538,10 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   }
   reactions_and_pressure(dt, moving, reactions);
   integrate_and_project(dt, moving, reactions);
-  for (std::size_t k = 0; k < active_count_; ++k) {
-    const std::size_t i = active_[k];
-    if (!finite(x_[i]) || v_[i].squaredNorm() > kMaxSpeed_m_s * kMaxSpeed_m_s) {
-      if (report.ok) report.stage = finite(x_[i]) ? "speed" : "integrate";
+  for (std::size_t k = 0; k < state_.active_count; ++k) {
+    const std::size_t i = state_.active[k];
+    if (!finite(state_.x[i]) || state_.v[i].squaredNorm() > kMaxSpeed_m_s * kMaxSpeed_m_s) {
+      if (report.ok) report.stage = finite(state_.x[i]) ? "speed" : "integrate";
       report.ok = false;
       break;
     }
@@ -561,11 +559,11 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
 // such pair can be missing from the rows while the two largest displacements sum to less than
 // the skin (the usual test, every particle within skin / 2, is the special case of equal
 // ones; this one tolerates a few fast particles among slow ones). Only awake and fixed
-// particles move; those that fell asleep keep the displacement they had (frozen_disp2_).
+// particles move; those that fell asleep keep the displacement they had (work_.rows.frozen_disp2).
 void Nucleus::update_grid() {
-  double m1 = frozen_disp2_[0], m2 = frozen_disp2_[1];  // two largest squared displacements
+  double m1 = work_.rows.frozen_disp2[0], m2 = work_.rows.frozen_disp2[1];  // two largest squared displacements
   auto note = [&](std::int32_t i) {
-    const double d2 = min_image(x_[i] - x_built_[i]).squaredNorm();
+    const double d2 = min_image(model_, state_.x[i] - work_.rows.x_built[i]).squaredNorm();
     if (!(d2 <= m2)) {  // NaN counts as largest
       if (!(d2 <= m1)) {
         m2 = m1;
@@ -575,109 +573,109 @@ void Nucleus::update_grid() {
       }
     }
   };
-  for (std::size_t k = 0; k < active_count_; ++k) note(active_[k]);
-  for (const std::int32_t i : fixed_list_) note(i);
-  disp_bound_ = std::sqrt(m1) + std::sqrt(m2);
-  const bool rebuild = !grid_valid_ || !(disp_bound_ < skin_);
+  for (std::size_t k = 0; k < state_.active_count; ++k) note(state_.active[k]);
+  for (const std::int32_t i : model_.fixed_list) note(i);
+  work_.rows.disp_bound = std::sqrt(m1) + std::sqrt(m2);
+  const bool rebuild = !work_.rows.grid_valid || !(work_.rows.disp_bound < model_.skin);
   if (!rebuild) return;
-  disp_bound_ = 0.0;
-  frozen_disp2_ = {0.0, 0.0};
-  grid_.build(x_, radius_ + skin_, options_.periodic, options_.periodic_min_m,
-              options_.periodic_max_m);
-  std::copy(x_.begin(), x_.end(), x_built_.begin());
-  ++epoch_;
-  row_used_ = 0;
-  grid_valid_ = true;
-  ++grid_builds_;
+  work_.rows.disp_bound = 0.0;
+  work_.rows.frozen_disp2 = {0.0, 0.0};
+  work_.rows.grid.build(state_.x, model_.radius + model_.skin, model_.options.periodic, model_.options.periodic_min_m,
+              model_.options.periodic_max_m);
+  std::copy(state_.x.begin(), state_.x.end(), work_.rows.x_built.begin());
+  ++work_.rows.epoch;
+  work_.rows.used = 0;
+  work_.rows.grid_valid = true;
+  ++work_.rows.grid_builds;
   // Re-sort the awake list by particle index (it grows by appending between builds), which
   // keeps the local numbering close to the lattice order.
-  if (active_count_ > 0) {
+  if (state_.active_count > 0) {
     std::size_t n_awake = 0;
-    for (std::size_t i = 0; i < x_.size(); ++i)
-      if (awake_[i]) active_[n_awake++] = static_cast<std::int32_t>(i);
-    active_count_ = n_awake;
+    for (std::size_t i = 0; i < state_.x.size(); ++i)
+      if (state_.awake[i]) state_.active[n_awake++] = static_cast<std::int32_t>(i);
+    state_.active_count = n_awake;
   }
 }
 
 // Row i: every particle within R + skin of i at the last grid build, with the bond between
 // them (-1 if none). Computed at most once per grid build, when i first takes part in a step.
 void Nucleus::ensure_row(std::int32_t i) {
-  if (row_epoch_[i] == epoch_) return;
-  row_epoch_[i] = epoch_;
-  const double reach = radius_ + skin_;
+  if (work_.rows.epoch_of[i] == work_.rows.epoch) return;
+  work_.rows.epoch_of[i] = work_.rows.epoch;
+  const double reach = model_.radius + model_.skin;
   const double reach2 = reach * reach;
   // i's bonds by partner (a live bond wins over a broken one between the same particles).
-  for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
-    const std::int32_t b = bond_adj_[k];
-    const std::int32_t other = bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b];
-    if (partner_bond_[other] < 0 || !bond_alive_[partner_bond_[other]]) partner_bond_[other] = b;
+  for (std::int32_t k = model_.bonds.adj_start[i]; k < model_.bonds.adj_start[i + 1]; ++k) {
+    const std::int32_t b = model_.bonds.adj[k];
+    const std::int32_t other = model_.bonds.ij[2 * b] == i ? model_.bonds.ij[2 * b + 1] : model_.bonds.ij[2 * b];
+    if (work_.rows.partner_bond[other] < 0 || !state_.bond_alive[work_.rows.partner_bond[other]]) work_.rows.partner_bond[other] = b;
   }
-  const std::size_t start = row_used_;
-  const std::size_t cap = row_j_.size();
-  const Vec3 xi = x_built_[i];
+  const std::size_t start = work_.rows.used;
+  const std::size_t cap = work_.rows.j.size();
+  const Vec3 xi = work_.rows.x_built[i];
   // Each entry's ordering bucket (see below): higher index first, then lower; within each,
   // inside the density radius, inside R, then beyond (at the build positions).
-  const double Rd2 = density_radius_ * density_radius_, R2 = radius_ * radius_;
-  const std::size_t scratch = row_scratch_j_.size();
+  const double Rd2 = model_.density_radius * model_.density_radius, R2 = model_.radius * model_.radius;
+  const std::size_t scratch = work_.rows.scratch_j.size();
   std::array<std::int32_t, 7> count{};
-  grid_.for_each_near(xi, [&](std::int32_t j, const Vec3& xj) {
+  work_.rows.grid.for_each_near(xi, [&](std::int32_t j, const Vec3& xj) {
     if (j == i) return;
-    const double r2 = min_image(xj - xi).squaredNorm();
+    const double r2 = min_image(model_, xj - xi).squaredNorm();
     if (!(r2 < reach2)) return;
-    if (row_used_ >= cap) {
-      pairs_overflow_ = true;
+    if (work_.rows.used >= cap) {
+      work_.pairs.overflow = true;
       return;
     }
     const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
-    const std::size_t c = row_used_ - start;
+    const std::size_t c = work_.rows.used - start;
     if (c < scratch) {
-      row_scratch_bucket_[c] = static_cast<std::uint8_t>(bucket);
-      row_scratch_r2_[c] = static_cast<float>(r2);
+      work_.rows.scratch_bucket[c] = static_cast<std::uint8_t>(bucket);
+      work_.rows.scratch_r2[c] = static_cast<float>(r2);
     }
     ++count[bucket + 1];
-    row_j_[row_used_] = j;
-    row_bond_[row_used_] = partner_bond_[j];
-    ++row_used_;
+    work_.rows.j[work_.rows.used] = j;
+    work_.rows.bond[work_.rows.used] = work_.rows.partner_bond[j];
+    ++work_.rows.used;
   });
-  for (std::int32_t k = bond_adj_start_[i]; k < bond_adj_start_[i + 1]; ++k) {
-    const std::int32_t b = bond_adj_[k];
-    partner_bond_[bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b]] = -1;
+  for (std::int32_t k = model_.bonds.adj_start[i]; k < model_.bonds.adj_start[i + 1]; ++k) {
+    const std::int32_t b = model_.bonds.adj[k];
+    work_.rows.partner_bond[model_.bonds.ij[2 * b] == i ? model_.bonds.ij[2 * b + 1] : model_.bonds.ij[2 * b]] = -1;
   }
-  const std::size_t len = row_used_ - start;
-  row_start_[i] = static_cast<std::int32_t>(start);
-  row_len_[i] = static_cast<std::int32_t>(len);
-  // Order by bucket (stable counting sort; see row_upper_). A row longer than the scratch is
+  const std::size_t len = work_.rows.used - start;
+  work_.rows.start[i] = static_cast<std::int32_t>(start);
+  work_.rows.len[i] = static_cast<std::int32_t>(len);
+  // Order by bucket (stable counting sort; see work_.rows.upper). A row longer than the scratch is
   // only split into its upper and lower parts (the ordering only saves time).
   std::int32_t upper = 0, beyond = 0;
   if (len <= scratch) {
-    std::copy(row_j_.begin() + start, row_j_.begin() + row_used_, row_scratch_j_.begin());
-    std::copy(row_bond_.begin() + start, row_bond_.begin() + row_used_, row_scratch_b_.begin());
+    std::copy(work_.rows.j.begin() + start, work_.rows.j.begin() + work_.rows.used, work_.rows.scratch_j.begin());
+    std::copy(work_.rows.bond.begin() + start, work_.rows.bond.begin() + work_.rows.used, work_.rows.scratch_bond.begin());
     for (int b = 0; b < 6; ++b) count[b + 1] += count[b];
     upper = count[3];
     beyond = count[2];
     for (std::size_t c = 0; c < len; ++c) {
-      const std::size_t at = start + count[row_scratch_bucket_[c]]++;
-      row_j_[at] = row_scratch_j_[c];
-      row_bond_[at] = row_scratch_b_[c];
-      row_r2_[at] = row_scratch_r2_[c];
+      const std::size_t at = start + count[work_.rows.scratch_bucket[c]]++;
+      work_.rows.j[at] = work_.rows.scratch_j[c];
+      work_.rows.bond[at] = work_.rows.scratch_bond[c];
+      work_.rows.r2[at] = work_.rows.scratch_r2[c];
     }
   } else {
     // Unordered: upper/lower partition only (in place, order within the parts lost).
-    std::size_t lo = start, hi = row_used_;
+    std::size_t lo = start, hi = work_.rows.used;
     while (lo < hi) {
-      if (row_j_[lo] > i) {
+      if (work_.rows.j[lo] > i) {
         ++lo;
       } else {
         --hi;
-        std::swap(row_j_[lo], row_j_[hi]);
-        std::swap(row_bond_[lo], row_bond_[hi]);
+        std::swap(work_.rows.j[lo], work_.rows.j[hi]);
+        std::swap(work_.rows.bond[lo], work_.rows.bond[hi]);
       }
     }
     upper = static_cast<std::int32_t>(lo - start);
     beyond = upper;
   }
-  row_upper_[i] = upper;
-  row_beyond_[i] = beyond;
+  work_.rows.upper[i] = upper;
+  work_.rows.beyond[i] = beyond;
 }
 
 namespace {
@@ -721,87 +719,87 @@ inline double box_gap(const Vec3& p, const Vec3& lo, const Vec3& hi) {
 // Only particles that can change state are visited: the awake ones, those queued to wake, and
 // those in grid cells near a moving collider.
 void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
-  const std::size_t n = x_.size();
-  if (!solver_.sleep_enabled) {
+  const std::size_t n = state_.x.size();
+  if (!model_.solver.sleep_enabled) {
     // Everything that is not fixed is integrated (the "skip off" case).
-    if (active_count_ + fixed_list_.size() != n) {
-      active_count_ = 0;
+    if (state_.active_count + model_.fixed_list.size() != n) {
+      state_.active_count = 0;
       for (std::size_t i = 0; i < n; ++i) {
-        awake_[i] = fixed_[i] ? 0 : 1;
-        if (awake_[i]) active_[active_count_++] = static_cast<std::int32_t>(i);
+        state_.awake[i] = model_.fixed[i] ? 0 : 1;
+        if (state_.awake[i]) state_.active[state_.active_count++] = static_cast<std::int32_t>(i);
       }
     }
-    for (std::size_t k = 0; k < wake_count_; ++k) wake_next_[wake_list_[k]] = 0;
-    wake_count_ = 0;
+    for (std::size_t k = 0; k < state_.wake_count; ++k) state_.wake_next[state_.wake_list[k]] = 0;
+    state_.wake_count = 0;
     return;
   }
-  const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
-  const double sleep_d = solver_.sleep_distance_m;
+  const double slow2 = model_.solver.sleep_speed_m_s * model_.solver.sleep_speed_m_s;
+  const double sleep_d = model_.solver.sleep_distance_m;
   // Waking first, on the states at the start of the step: particles near a moving collider
   // (marked with this step's stamp, which the awake ones' calm count reads below) and those
-  // queued (an awake neighbour moved, a bond broke). New awake particles are kept in lg_
+  // queued (an awake neighbour moved, a bond broke). New awake particles are kept in work_.step.global
   // (free until build_pairs) and appended to the awake list at the end.
-  ++stamp_value_;
-  const std::int32_t near_mark = stamp_value_;
+  ++work_.stamp_value;
+  const std::int32_t near_mark = work_.stamp_value;
   std::size_t woken = 0;
   auto wake = [&](std::int32_t i) {
-    if (fixed_[i] || awake_[i]) return;
-    awake_[i] = 1;
-    calm_[i] = 0;
-    lg_[woken++] = i;
+    if (model_.fixed[i] || state_.awake[i]) return;
+    state_.awake[i] = 1;
+    state_.calm[i] = 0;
+    work_.step.global[woken++] = i;
   };
   for (const Collider& c : moving) {
     auto test = [&](std::int32_t j) {
-      if (stamp_[j] == near_mark || fixed_[j]) return;
-      if (!(signed_distance(c, x_[j], nullptr) < sleep_d)) return;
-      stamp_[j] = near_mark;
+      if (work_.stamp[j] == near_mark || model_.fixed[j]) return;
+      if (!(signed_distance(c, state_.x[j], nullptr) < sleep_d)) return;
+      work_.stamp[j] = near_mark;
       wake(j);
     };
     Vec3 lo, hi;
     if (collider_bounds(c, &lo, &hi)) {
       // The grid holds old positions: the query box is widened by how far they can be off
       // (Up to a skin old: see update_grid.)
-      const Vec3 pad = Vec3::Constant(sleep_d + skin_);
-      grid_.for_each_in_box(lo - pad, hi + pad, [&](std::int32_t j, const Vec3&) { test(j); });
+      const Vec3 pad = Vec3::Constant(sleep_d + model_.skin);
+      work_.rows.grid.for_each_in_box(lo - pad, hi + pad, [&](std::int32_t j, const Vec3&) { test(j); });
     } else {
       for (std::size_t j = 0; j < n; ++j) test(static_cast<std::int32_t>(j));
     }
   }
-  const std::size_t was_awake = active_count_;
-  for (std::size_t k = 0; k < wake_count_; ++k) {
-    const std::int32_t i = wake_list_[k];
-    wake_next_[i] = 0;
+  const std::size_t was_awake = state_.active_count;
+  for (std::size_t k = 0; k < state_.wake_count; ++k) {
+    const std::int32_t i = state_.wake_list[k];
+    state_.wake_next[i] = 0;
     wake(i);
   }
-  wake_count_ = 0;
+  state_.wake_count = 0;
   // Particles awake at the start of the step: calm steps, and sleep after enough of them.
   std::size_t survivors = 0;
   for (std::size_t k = 0; k < was_awake; ++k) {
-    const std::int32_t i = active_[k];
-    const bool calm = stamp_[i] != near_mark && v_[i].squaredNorm() < slow2;
-    calm_[i] = calm ? static_cast<std::uint16_t>(std::min(calm_[i] + 1, 60000)) : 0;
-    if (calm_[i] >= kCalmStepsToSleep) {
-      awake_[i] = 0;
-      v_[i] = Vec3::Zero();
+    const std::int32_t i = state_.active[k];
+    const bool calm = work_.stamp[i] != near_mark && state_.v[i].squaredNorm() < slow2;
+    state_.calm[i] = calm ? static_cast<std::uint16_t>(std::min(state_.calm[i] + 1, 60000)) : 0;
+    if (state_.calm[i] >= kCalmStepsToSleep) {
+      state_.awake[i] = 0;
+      state_.v[i] = Vec3::Zero();
       // Its displacement since the grid build stays in the rebuild test (update_grid).
-      const double d2 = min_image(x_[i] - x_built_[i]).squaredNorm();
-      if (d2 > frozen_disp2_[1]) {
-        frozen_disp2_[1] = d2;
-        if (frozen_disp2_[1] > frozen_disp2_[0]) std::swap(frozen_disp2_[0], frozen_disp2_[1]);
+      const double d2 = min_image(model_, state_.x[i] - work_.rows.x_built[i]).squaredNorm();
+      if (d2 > work_.rows.frozen_disp2[1]) {
+        work_.rows.frozen_disp2[1] = d2;
+        if (work_.rows.frozen_disp2[1] > work_.rows.frozen_disp2[0]) std::swap(work_.rows.frozen_disp2[0], work_.rows.frozen_disp2[1]);
       }
     } else {
-      active_[survivors++] = i;
+      state_.active[survivors++] = i;
     }
   }
   // The awake list stays sorted by particle index (build_pairs relies on it): the woken ones,
   // sorted, are merged in from the back.
-  std::sort(lg_.begin(), lg_.begin() + static_cast<std::ptrdiff_t>(woken));
+  std::sort(work_.step.global.begin(), work_.step.global.begin() + static_cast<std::ptrdiff_t>(woken));
   std::size_t a = survivors, b = woken, out = survivors + woken;
   while (b > 0) {
-    if (a > 0 && active_[a - 1] > lg_[b - 1]) active_[--out] = active_[--a];
-    else active_[--out] = lg_[--b];
+    if (a > 0 && state_.active[a - 1] > work_.step.global[b - 1]) state_.active[--out] = state_.active[--a];
+    else state_.active[--out] = work_.step.global[--b];
   }
-  active_count_ = survivors + woken;
+  state_.active_count = survivors + woken;
 }
 
 // This step's particles in local numbering and their pairs. The awake particles' rows give
@@ -810,32 +808,32 @@ void Nucleus::wake_and_sleep(std::span<const Collider> moving, double dt) {
 // particles. Pairs split by reach: near ones (density radius) from the front of the arrays,
 // far ones from the back.
 void Nucleus::build_pairs() {
-  const double R2 = radius_ * radius_;
-  const double Rd2 = density_radius_ * density_radius_;
-  const std::size_t cap = pair_cap_;
-  near_ = far_ = 0;
-  na_ = active_count_;
-  for (std::size_t k = 0; k < na_; ++k) {
-    const std::int32_t i = active_[k];
-    lg_[k] = i;
-    local_[i] = static_cast<std::int32_t>(k);
-    x_start_[i] = x_[i];
+  const double R2 = model_.radius * model_.radius;
+  const double Rd2 = model_.density_radius * model_.density_radius;
+  const std::size_t cap = work_.pairs.cap;
+  work_.pairs.near = work_.pairs.far = 0;
+  work_.step.awake_end = state_.active_count;
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
+    const std::int32_t i = state_.active[k];
+    work_.step.global[k] = i;
+    work_.step.local[i] = static_cast<std::int32_t>(k);
+    work_.step.x_start[i] = state_.x[i];
   }
-  nh_ = na_;
+  work_.step.halo_end = work_.step.awake_end;
   auto emit = [&](std::int32_t li, std::int32_t lj, const Vec3& d, double r2, std::int32_t bond) {
-    if (near_ + far_ >= cap) {
-      pairs_overflow_ = true;
+    if (work_.pairs.near + work_.pairs.far >= cap) {
+      work_.pairs.overflow = true;
       return;
     }
-    const std::size_t p = r2 < Rd2 ? near_++ : cap - 1 - far_++;
+    const std::size_t p = r2 < Rd2 ? work_.pairs.near++ : cap - 1 - work_.pairs.far++;
     const double r = std::sqrt(r2);
-    pair_i_[p] = li;
-    pair_j_[p] = lj;
-    pair_r_[p] = r;
-    pair_n_[p] = d * (1.0 / r);
-    if (bond >= 0 && !bond_alive_[bond]) bond = -1;
-    pair_bond_[p] = bond;
-    if (bond >= 0 && loose_possible_) bond_in_pair_[bond] = 1;
+    work_.pairs.i[p] = li;
+    work_.pairs.j[p] = lj;
+    work_.pairs.r[p] = r;
+    work_.pairs.n[p] = d * (1.0 / r);
+    if (bond >= 0 && !state_.bond_alive[bond]) bond = -1;
+    work_.pairs.bond[p] = bond;
+    if (bond >= 0 && model_.bonds.loose_possible) work_.loose.in_pair[bond] = 1;
   };
   // The pairs of local particle k from its row. A neighbour numbered below k was paired from
   // its own side (awake ones before halo ones, halo ones by index; self never appears); one
@@ -844,28 +842,28 @@ void Nucleus::build_pairs() {
   // Starts local particle k's pairs: its Verlet row (built if needed) and where its near and
   // far pairs begin.
   auto open_row = [&](std::size_t k) {
-    const std::int32_t i = lg_[k];
+    const std::int32_t i = work_.step.global[k];
     ensure_row(i);
-    row_near_[k] = static_cast<std::int32_t>(near_);
-    row_far_[k] = static_cast<std::int32_t>(far_);
+    work_.pairs.row_near[k] = static_cast<std::int32_t>(work_.pairs.near);
+    work_.pairs.row_far[k] = static_cast<std::int32_t>(work_.pairs.far);
     return i;
   };
   auto pair_row = [&](std::size_t k, std::size_t& next) {
     const std::int32_t i = open_row(k);
-    const std::int32_t* rj = row_j_.data() + row_start_[i];
-    const std::int32_t* rb = row_bond_.data() + row_start_[i];
-    const Vec3 xi = x_[i];
-    for (std::int32_t c = 0; c < row_len_[i]; ++c) {
+    const std::int32_t* rj = work_.rows.j.data() + work_.rows.start[i];
+    const std::int32_t* rb = work_.rows.bond.data() + work_.rows.start[i];
+    const Vec3 xi = state_.x[i];
+    for (std::int32_t c = 0; c < work_.rows.len[i]; ++c) {
       const std::int32_t j = rj[c];
-      std::int32_t lj = local_[j];
+      std::int32_t lj = work_.step.local[j];
       if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;
-      const Vec3 d = min_image(x_[j] - xi);
+      const Vec3 d = min_image(model_, state_.x[j] - xi);
       const double r2 = d.squaredNorm();
       if (r2 >= R2 || r2 <= 0.0) continue;
       if (lj < 0) {
         lj = static_cast<std::int32_t>(next++);
-        local_[j] = lj;
-        lg_[lj] = j;
+        work_.step.local[j] = lj;
+        work_.step.global[lj] = j;
       }
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     }
@@ -875,9 +873,9 @@ void Nucleus::build_pairs() {
   // indices) is paired whole, its lower part only with particles that are not awake. Rows are
   // ordered by distance within each part, so the range and near/far tests branch alike from
   // row to row.
-  const bool propagate_wake = solver_.sleep_enabled;
-  const double slow2 = solver_.sleep_speed_m_s * solver_.sleep_speed_m_s;
-  // An entry of the upper part's beyond bucket that was at least R + disp_bound_ away at the
+  const bool propagate_wake = model_.solver.sleep_enabled;
+  const double slow2 = model_.solver.sleep_speed_m_s * model_.solver.sleep_speed_m_s;
+  // An entry of the upper part's beyond bucket that was at least R + work_.rows.disp_bound away at the
   // build is at least R away now (no particle has moved farther; a 1e-6 relative margin
   // covers the single-precision distances): the range test below would reject it, so it is
   // skipped on its build distance alone. (Periodic domains: not used.)
@@ -885,101 +883,101 @@ void Nucleus::build_pairs() {
   // rows that can hold one are marked from its side, and the others skip their lower part: a
   // non-awake j is in the lower part of row i only if i > j lies in the 27 grid cells around
   // j's build position (the cells are neighbours of each other both ways).
-  const std::size_t n_all = x_.size();
-  const bool mark_lower = (n_all - na_) * 16 <= na_;
+  const std::size_t n_all = state_.x.size();
+  const bool mark_lower = (n_all - work_.step.awake_end) * 16 <= work_.step.awake_end;
   std::int32_t lower_mark = 0;
   if (mark_lower) {
-    lower_mark = ++stamp_value_;
+    lower_mark = ++work_.stamp_value;
     std::size_t a = 0;
     for (std::size_t j = 0; j < n_all; ++j) {
       const std::int32_t jj = static_cast<std::int32_t>(j);
-      if (a < na_ && active_[a] == jj) {
+      if (a < work_.step.awake_end && state_.active[a] == jj) {
         ++a;
         continue;
       }
-      grid_.for_each_near(x_built_[j], [&](std::int32_t i, const Vec3&) {
-        if (i > jj) stamp_[i] = lower_mark;
+      work_.rows.grid.for_each_near(work_.rows.x_built[j], [&](std::int32_t i, const Vec3&) {
+        if (i > jj) work_.stamp[i] = lower_mark;
       });
     }
   }
-  const double reach_now = (radius_ + disp_bound_) * (1.0 + 1e-6);
-  const float far2 = periodic_ ? std::numeric_limits<float>::infinity()
+  const double reach_now = (model_.radius + work_.rows.disp_bound) * (1.0 + 1e-6);
+  const float far2 = model_.periodic ? std::numeric_limits<float>::infinity()
                                : static_cast<float>(reach_now * reach_now * (1.0 + 1e-6));
-  for (std::size_t k = 0; k < na_; ++k) {
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
     const std::int32_t i = open_row(k);
-    const std::int32_t* rj = row_j_.data() + row_start_[i];
-    const std::int32_t* rb = row_bond_.data() + row_start_[i];
-    const std::int32_t upper = row_upper_[i];
-    const Vec3 xi = x_[i];
+    const std::int32_t* rj = work_.rows.j.data() + work_.rows.start[i];
+    const std::int32_t* rb = work_.rows.bond.data() + work_.rows.start[i];
+    const std::int32_t upper = work_.rows.upper[i];
+    const Vec3 xi = state_.x[i];
     // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
-    const bool moving_i = propagate_wake && v_[i].squaredNorm() >= slow2;
+    const bool moving_i = propagate_wake && state_.v[i].squaredNorm() >= slow2;
     auto visit = [&](std::int32_t c) {
       const std::int32_t j = rj[c];
-      const Vec3 d = min_image(x_[j] - xi);
+      const Vec3 d = min_image(model_, state_.x[j] - xi);
       const double r2 = d.squaredNorm();
       if (r2 >= R2 || r2 <= 0.0) return;
-      std::int32_t lj = local_[j];
+      std::int32_t lj = work_.step.local[j];
       if (lj < 0) {
-        lj = static_cast<std::int32_t>(nh_++);
-        local_[j] = lj;
-        lg_[lj] = j;
+        lj = static_cast<std::int32_t>(work_.step.halo_end++);
+        work_.step.local[j] = lj;
+        work_.step.global[lj] = j;
       }
-      if (moving_i && lj >= static_cast<std::int32_t>(na_) && !fixed_[j] && !wake_next_[j]) {
-        wake_next_[j] = 1;
-        wake_list_[wake_count_++] = j;
+      if (moving_i && lj >= static_cast<std::int32_t>(work_.step.awake_end) && !model_.fixed[j] && !state_.wake_next[j]) {
+        state_.wake_next[j] = 1;
+        state_.wake_list[state_.wake_count++] = j;
       }
       emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     };
-    const float* rr = row_r2_.data() + row_start_[i];
-    const std::int32_t beyond = row_beyond_[i];
+    const float* rr = work_.rows.r2.data() + work_.rows.start[i];
+    const std::int32_t beyond = work_.rows.beyond[i];
     for (std::int32_t c = 0; c < beyond; ++c) visit(c);
     for (std::int32_t c = beyond; c < upper; ++c)
       if (rr[c] < far2) visit(c);
-    if (!mark_lower || stamp_[i] == lower_mark)
-      for (std::int32_t c = upper; c < row_len_[i]; ++c)
-        if (!awake_[rj[c]]) visit(c);
+    if (!mark_lower || work_.stamp[i] == lower_mark)
+      for (std::int32_t c = upper; c < work_.rows.len[i]; ++c)
+        if (!state_.awake[rj[c]]) visit(c);
   }
-  near_awake_ = near_;
-  far_awake_ = far_;
-  nl_ = nh_;
-  for (std::size_t k = na_; k < nh_; ++k) pair_row(k, nl_);
-  row_near_[nh_] = static_cast<std::int32_t>(near_);
-  row_far_[nh_] = static_cast<std::int32_t>(far_);
-  pairs_ = near_ + far_;
+  work_.pairs.near_awake = work_.pairs.near;
+  work_.pairs.far_awake = work_.pairs.far;
+  work_.step.outer_end = work_.step.halo_end;
+  for (std::size_t k = work_.step.awake_end; k < work_.step.halo_end; ++k) pair_row(k, work_.step.outer_end);
+  work_.pairs.row_near[work_.step.halo_end] = static_cast<std::int32_t>(work_.pairs.near);
+  work_.pairs.row_far[work_.step.halo_end] = static_cast<std::int32_t>(work_.pairs.far);
+  work_.pairs.count = work_.pairs.near + work_.pairs.far;
   // Bonds stretched beyond the interaction radius (possible only when delta_max > R - L) are
   // applied on their own; the other end joins the step if it is not in it yet.
   // A live bond is at most L + delta_max long at the start of a step (longer ones broke at the
   // end of the last one), so when every bond's L + delta_max is inside R there are none.
-  loose_bonds_ = 0;
-  for (std::size_t k = 0; k < (loose_possible_ ? na_ : 0); ++k) {
-    const std::int32_t i = lg_[k];
-    for (std::int32_t a = bond_adj_start_[i]; a < bond_adj_start_[i + 1]; ++a) {
-      const std::int32_t b = bond_adj_[a];
-      if (!bond_alive_[b] || bond_in_pair_[b]) continue;
-      const std::int32_t j = bond_ij_[2 * b] == i ? bond_ij_[2 * b + 1] : bond_ij_[2 * b];
-      std::int32_t lj = local_[j];
+  work_.loose.count = 0;
+  for (std::size_t k = 0; k < (model_.bonds.loose_possible ? work_.step.awake_end : 0); ++k) {
+    const std::int32_t i = work_.step.global[k];
+    for (std::int32_t a = model_.bonds.adj_start[i]; a < model_.bonds.adj_start[i + 1]; ++a) {
+      const std::int32_t b = model_.bonds.adj[a];
+      if (!state_.bond_alive[b] || work_.loose.in_pair[b]) continue;
+      const std::int32_t j = model_.bonds.ij[2 * b] == i ? model_.bonds.ij[2 * b + 1] : model_.bonds.ij[2 * b];
+      std::int32_t lj = work_.step.local[j];
       if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;  // awake, counted from j
       if (lj < 0) {
-        lj = static_cast<std::int32_t>(nl_++);
-        local_[j] = lj;
-        lg_[lj] = j;
+        lj = static_cast<std::int32_t>(work_.step.outer_end++);
+        work_.step.local[j] = lj;
+        work_.step.global[lj] = j;
       }
       // Oriented as the bond is (i -> j in bond order), like a pair.
-      const bool forward = bond_ij_[2 * b] == i;
-      loose_[loose_bonds_] = b;
-      loose_ij_[2 * loose_bonds_] = forward ? static_cast<std::int32_t>(k) : lj;
-      loose_ij_[2 * loose_bonds_ + 1] = forward ? lj : static_cast<std::int32_t>(k);
-      ++loose_bonds_;
+      const bool forward = model_.bonds.ij[2 * b] == i;
+      work_.loose.bond[work_.loose.count] = b;
+      work_.loose.ij[2 * work_.loose.count] = forward ? static_cast<std::int32_t>(k) : lj;
+      work_.loose.ij[2 * work_.loose.count + 1] = forward ? lj : static_cast<std::int32_t>(k);
+      ++work_.loose.count;
     }
   }
-  if (loose_possible_) {
-    for (std::size_t p = 0; p < near_; ++p)
-      if (pair_bond_[p] >= 0) bond_in_pair_[pair_bond_[p]] = 0;
-    for (std::size_t p = cap - far_; p < cap; ++p)
-      if (pair_bond_[p] >= 0) bond_in_pair_[pair_bond_[p]] = 0;
+  if (model_.bonds.loose_possible) {
+    for (std::size_t p = 0; p < work_.pairs.near; ++p)
+      if (work_.pairs.bond[p] >= 0) work_.loose.in_pair[work_.pairs.bond[p]] = 0;
+    for (std::size_t p = cap - work_.pairs.far; p < cap; ++p)
+      if (work_.pairs.bond[p] >= 0) work_.loose.in_pair[work_.pairs.bond[p]] = 0;
   }
-  frozen_moving_ = false;
-  for (std::size_t k = na_; k < nl_; ++k) frozen_moving_ = frozen_moving_ || fixed_[lg_[k]];
+  work_.step.frozen_moving = false;
+  for (std::size_t k = work_.step.awake_end; k < work_.step.outer_end; ++k) work_.step.frozen_moving = work_.step.frozen_moving || model_.fixed[work_.step.global[k]];
 }
 
 // Walls: for each particle of the step near a collider, the no-slip coupling, the density and
@@ -987,29 +985,29 @@ void Nucleus::build_pairs() {
 // whose bounding box is farther than any of these reach is skipped (its surface is at least
 // that far), unless culling is switched off.
 void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
-  wall_count_ = 0;
-  wall_particles_ = 0;
-  con_particles_ = 0;
+  work_.walls.hit_count = 0;
+  work_.walls.particles = 0;
+  work_.contacts.particles = 0;
   // A lattice site within R of the particle can be inside the solid only if d < R + h/2.
-  const double wall_range = radius_ + 0.5 * h_;
-  const std::size_t n_static = statics_.size();
+  const double wall_range = model_.radius + 0.5 * model_.h;
+  const std::size_t n_static = model_.statics.size();
   const std::size_t n_coll = n_static + moving.size();
   // Bounding boxes and speed bounds of the colliders.
   std::array<Vec3, 32> lo, hi;
   std::array<bool, 32> bounded;
   for (std::size_t c = 0; c < n_coll; ++c) {
-    const Collider& col = c < n_static ? statics_[c] : moving[c - n_static];
-    bounded[c] = solver_.contact_culling && collider_bounds(col, &lo[c], &hi[c]);
+    const Collider& col = c < n_static ? model_.statics[c] : moving[c - n_static];
+    bounded[c] = model_.solver.contact_culling && collider_bounds(col, &lo[c], &hi[c]);
   }
-  for (std::size_t k = 0; k < nh_; ++k) {
-    density_[k] = 0.0;
-    second_moment_[k] = 0.0;
-    wall_slot_[k] = -1;
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) {
+    work_.sys.density[k] = 0.0;
+    work_.sys.second_moment[k] = 0.0;
+    work_.walls.slot[k] = -1;
   }
-  for (std::size_t k = 0; k < na_; ++k) {
-    con_slot_[k] = -1;
-    near_colliders_[k] = 0;
-    all_colliders_[k] = solver_.contact_culling ? 0 : 1;
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
+    work_.contacts.slot[k] = -1;
+    work_.cull.near_colliders[k] = 0;
+    work_.cull.all_colliders[k] = model_.solver.contact_culling ? 0 : 1;
   }
   // Static colliders per particle. A static collider whose lower distance bound (box gap, or
   // the exact distance of a half-space) was at least wall_range + margin where the mask was
@@ -1017,36 +1015,36 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
   // place (distances are 1-Lipschitz); when also the contact reach bound is inside the wall
   // range (|v| dt <= wall_range - contact - 0.1 h), the test below would skip it, so it is
   // left out without evaluating anything (bit-identical).
-  const double mask_margin = kStaticMaskMargin * h_;
+  const double mask_margin = kStaticMaskMargin * model_.h;
   const double mask_margin2 = mask_margin * mask_margin;
-  const double mask_far = wall_range * (1.0 + 1e-9) + 1e-6 * h_ + mask_margin;
-  const double slow_reach = wall_range - contact_ - 0.1 * h_;
+  const double mask_far = wall_range * (1.0 + 1e-9) + 1e-6 * model_.h + mask_margin;
+  const double slow_reach = wall_range - model_.contact - 0.1 * model_.h;
   const double slow_v2 = slow_reach > 0.0 ? (slow_reach / dt) * (slow_reach / dt) : -1.0;
   const std::uint32_t all_statics =
       n_static >= 32 ? ~0u : ((1u << n_static) - 1u);
   const std::uint32_t moving_bits = (n_coll >= 32 ? ~0u : ((1u << n_coll) - 1u)) & ~all_statics;
-  for (std::size_t k = 0; k < nh_; ++k) {
-    const std::int32_t i = lg_[k];
-    const bool awake = k < na_;
-    const Vec3 xi = x_[i];
-    const Vec3 vi = v_[i];
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) {
+    const std::int32_t i = work_.step.global[k];
+    const bool awake = k < work_.step.awake_end;
+    const Vec3 xi = state_.x[i];
+    const Vec3 vi = state_.v[i];
     const double vi_norm = vi.norm();
     std::uint32_t statics_mask = all_statics;
-    if (solver_.contact_culling && vi.squaredNorm() <= slow_v2 * (1.0 - 1e-9)) {
-      if (!((xi - static_ref_[i]).squaredNorm() <= mask_margin2)) {
+    if (model_.solver.contact_culling && vi.squaredNorm() <= slow_v2 * (1.0 - 1e-9)) {
+      if (!((xi - work_.cull.static_ref[i]).squaredNorm() <= mask_margin2)) {
         std::uint32_t mask = 0;
         for (std::size_t kc = 0; kc < n_static; ++kc) {
-          const Collider& c = statics_[kc];
+          const Collider& c = model_.statics[kc];
           double gap = 0.0;  // lower bound of the distance to the solid
           if (bounded[kc]) gap = box_gap(xi, lo[kc], hi[kc]);
           else if (c.kind == ColliderKind::kHalfSpace)
-            gap = signed_distance_local(c, to_local(c.pose, frame_identity_[kc] != 0, xi), nullptr);
+            gap = signed_distance_local(c, to_local(c.pose, work_.frames.identity[kc] != 0, xi), nullptr);
           if (!(gap >= mask_far)) mask |= 1u << kc;
         }
-        static_mask_[i] = mask;
-        static_ref_[i] = xi;
+        work_.cull.static_mask[i] = mask;
+        work_.cull.static_ref[i] = xi;
       }
-      statics_mask = static_mask_[i];
+      statics_mask = work_.cull.static_mask[i];
     }
     int hits = 0;
     Vec3 grad_sum = Vec3::Zero();
@@ -1057,36 +1055,36 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
     // The colliders to look at (the statics in the mask, every moving one), in index order.
     for (std::uint32_t todo = statics_mask | moving_bits; todo != 0; todo &= todo - 1) {
       const std::size_t kc = static_cast<std::size_t>(__builtin_ctz(todo));
-      const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
+      const Collider& c = kc < n_static ? model_.statics[kc] : moving[kc - n_static];
       if (bounded[kc]) {
         // The surface is at least box_gap away; the contact reach is at most
         // contact + 0.1 h + |v_i - v_wall| dt. (Compared squared: the bound has a 1e-9 margin,
         // and a collider kept by rounding is skipped by the exact test below.)
         const double v_wall =
             kc < n_static ? 0.0
-                          : frame_lin_speed_[kc] +
-                                (frame_ang_speed_[kc] != 0.0
-                                     ? frame_ang_speed_[kc] * (xi - c.pose.position).norm()
+                          : work_.frames.lin_speed[kc] +
+                                (work_.frames.ang_speed[kc] != 0.0
+                                     ? work_.frames.ang_speed[kc] * (xi - c.pose.position).norm()
                                      : 0.0);
-        const double reach_bound = contact_ + 0.1 * h_ + (vi_norm + v_wall) * dt;
+        const double reach_bound = model_.contact + 0.1 * model_.h + (vi_norm + v_wall) * dt;
         const double bound = std::max(wall_range, reach_bound) * (1.0 + 1e-9);
         if (box_gap2(xi, lo[kc], hi[kc]) >= bound * bound) continue;
       }
       Vec3 normal;
-      const bool unrotated = frame_identity_[kc] != 0;
+      const bool unrotated = work_.frames.identity[kc] != 0;
       const double d = signed_distance_local(c, to_local(c.pose, unrotated, xi), &normal);
       if (!unrotated) normal = c.pose.orientation * normal;
       const Vec3 vw = kc < n_static ? Vec3::Zero() : c.velocity_at(xi);
       const double vn_rel = (vi - vw).dot(normal);
-      const double reach = contact_ + 0.1 * h_ + std::max(0.0, -vn_rel) * dt;
+      const double reach = model_.contact + 0.1 * model_.h + std::max(0.0, -vn_rel) * dt;
       if (d >= wall_range && d >= reach) continue;
-      if (hits >= kMaxWallHitsPerParticle || wall_count_ >= walls_.size()) {
-        if (awake) all_colliders_[k] = 1;  // not tracked: the projection checks everything
+      if (hits >= kMaxWallHitsPerParticle || work_.walls.hit_count >= work_.walls.hits.size()) {
+        if (awake) work_.cull.all_colliders[k] = 1;  // not tracked: the projection checks everything
         continue;
       }
       ++hits;
-      if (awake) near_colliders_[k] |= 1u << kc;
-      WallHit& w = walls_[wall_count_++];
+      if (awake) work_.cull.near_colliders[k] |= 1u << kc;
+      WallHit& w = work_.walls.hits[work_.walls.hit_count++];
       w.particle = static_cast<std::int32_t>(k);
       w.collider = kc < n_static ? -1 - static_cast<std::int32_t>(kc)
                                  : static_cast<std::int32_t>(kc - n_static);
@@ -1108,9 +1106,9 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       int face_axis = -1;
       if (d < wall_range && flat_face(c, xi, d, normal, &face_axis)) {
         // An axis-aligned flat face seen by every site: the sums depend on d only (table).
-        const WallTableEntry e = wall_table_at(d);
-        density_[k] += e.n;
-        second_moment_[k] += e.s2;
+        const WallTableEntry e = model_.wall_table.at(d);
+        work_.sys.density[k] += e.n;
+        work_.sys.second_moment[k] += e.s2;
         w.grad = e.grad * normal;
         w.visc = e.visc_t * Eigen::Matrix3d::Identity();
         w.visc(face_axis, face_axis) = e.visc_n;
@@ -1119,12 +1117,12 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         // in place, not copied).
         SiteSums uncached;
         const SiteSums& sums =
-            solver_.wall_sum_cache
+            model_.solver.wall_sum_cache
                 ? cached_site_sums(static_cast<std::int32_t>(kc), c, i, xi, d)
                 : (uncached = site_sums(c, static_cast<std::int32_t>(kc), xi,
                                         to_local(c.pose, unrotated, xi), d));
-        density_[k] += sums.n;
-        second_moment_[k] += sums.s2;
+        work_.sys.density[k] += sums.n;
+        work_.sys.second_moment[k] += sums.s2;
         w.grad = sums.grad;
         w.visc = sums.visc;
       } else {
@@ -1137,8 +1135,8 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       // normal velocity if that is slower (no pull toward the wall). Penetrating particles are
       // stopped in the normal direction and pushed out by position after the solve.
       w.contact = false;
-      if (awake && d < reach && vn_rel <= 1e-12 && (d < contact_ || !release_[i]) && nc < 3) {
-        const double approach = d > contact_ ? -(d - contact_) / dt : 0.0;
+      if (awake && d < reach && vn_rel <= 1e-12 && (d < model_.contact || !state_.release[i]) && nc < 3) {
+        const double approach = d > model_.contact ? -(d - model_.contact) / dt : 0.0;
         cn[nc] = normal;
         ct[nc] = vw.dot(normal) + std::max(approach, std::min(vn_rel, 0.0));
         ++nc;
@@ -1146,14 +1144,14 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
       }
     }
     if (hits > 0) {
-      const std::size_t slot = wall_particles_++;
-      wall_slot_[k] = static_cast<std::int32_t>(slot);
-      wall_particle_[slot] = static_cast<std::int32_t>(k);
-      wall_g_[slot] = grad_sum;
-      wall_c_[slot] = Eigen::Matrix3d::Zero();
+      const std::size_t slot = work_.walls.particles++;
+      work_.walls.slot[k] = static_cast<std::int32_t>(slot);
+      work_.walls.particle[slot] = static_cast<std::int32_t>(k);
+      work_.walls.g[slot] = grad_sum;
+      work_.walls.c[slot] = Eigen::Matrix3d::Zero();
     }
     if (!awake) continue;
-    release_[i] = 0;
+    state_.release[i] = 0;
     // Orthonormal constrained directions (Gram-Schmidt) and the constrained velocity
     // component v_c in their span with n_k . v_c = t_k.
     if (nc > 0) {
@@ -1186,12 +1184,12 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
         const Vec3 a3 = G3.inverse() * Vec3(used_t[0], used_t[1], used_t[2]);
         vc = a3[0] * used_n[0] + a3[1] * used_n[1] + a3[2] * used_n[2];
       }
-      const std::size_t slot = con_particles_++;
-      con_slot_[k] = static_cast<std::int32_t>(slot);
-      con_particle_[slot] = static_cast<std::int32_t>(k);
-      con_count_[slot] = static_cast<std::uint8_t>(ne);
-      for (int a = 0; a < ne; ++a) con_e_[slot][a] = e[a];
-      con_v_[slot] = vc;
+      const std::size_t slot = work_.contacts.particles++;
+      work_.contacts.slot[k] = static_cast<std::int32_t>(slot);
+      work_.contacts.particle[slot] = static_cast<std::int32_t>(k);
+      work_.contacts.count[slot] = static_cast<std::uint8_t>(ne);
+      for (int a = 0; a < ne; ++a) work_.contacts.e[slot][a] = e[a];
+      work_.contacts.v[slot] = vc;
     }
   }
 }
@@ -1202,22 +1200,22 @@ void Nucleus::setup_walls(double dt, std::span<const Collider> moving) {
 // step (collider_frames), and a box's sites farther than h/2 outside its faces along any local
 // axis are rejected before the distance (their occupancy is 0): a particle beside the moving
 // blade recomputes these sums nearly every step, and most of its sites are outside the blade.
-Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const Vec3& x,
+SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const Vec3& x,
                                      const Vec3& local, double d) const {
   SiteSums sums;
-  const double inv_d_eff = 1.0 / std::max(d, 0.25 * h_);
-  const double inv_n0 = 1.0 / n0_;
-  const double half = 0.5 * h_;
-  const bool identity = frame_identity_[kc] != 0;
-  const Vec3* offsets = identity ? site_offset_.data() : &site_local_[kc * site_offset_.size()];
+  const double inv_d_eff = 1.0 / std::max(d, 0.25 * model_.h);
+  const double inv_n0 = 1.0 / model_.n0;
+  const double half = 0.5 * model_.h;
+  const bool identity = work_.frames.identity[kc] != 0;
+  const Vec3* offsets = identity ? model_.sites.offset.data() : &work_.frames.site_local[kc * model_.sites.offset.size()];
   const bool box = c.kind == ColliderKind::kBox;
   const Vec3 reject = c.half_extents_m + Vec3::Constant(half);
   Vec3 grad_local = Vec3::Zero();
-  for (std::size_t o = 0; o < site_offset_.size(); ++o) {
+  for (std::size_t o = 0; o < model_.sites.offset.size(); ++o) {
     // sd(site) >= d - |offset|: a site that far cannot be occupied.
-    if (d - site_len_[o] >= half) continue;
+    if (d - model_.sites.len[o] >= half) continue;
     // An unrotated collider: the site's local point exactly as signed_distance() forms it.
-    const Vec3 p = identity ? Vec3((x + site_offset_[o]) - c.pose.position)
+    const Vec3 p = identity ? Vec3((x + model_.sites.offset[o]) - c.pose.position)
                             : Vec3(local + offsets[o]);
     if (box && (p.x() >= reject.x() || -p.x() >= reject.x() || p.y() >= reject.y() ||
                 -p.y() >= reject.y() || p.z() >= reject.z() || -p.z() >= reject.z()))
@@ -1225,12 +1223,12 @@ Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const V
     Vec3 nq;
     const double sd = signed_distance_local(c, p, &nq);
     double slope = 0.0;
-    const double occ = occupancy(sd, h_, &slope);
+    const double occ = occupancy(sd, model_.h, &slope);
     if (occ <= 0.0) continue;
-    sums.n += occ * site_w_[o];
-    sums.s2 += occ * site_wv_[o] * site_r2_[o];
-    grad_local += (slope * site_w_[o] * inv_n0) * nq;
-    sums.visc += (occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) * inv_d_eff)) * site_uu_[o];
+    sums.n += occ * model_.sites.w[o];
+    sums.s2 += occ * model_.sites.wv[o] * model_.sites.r2[o];
+    grad_local += (slope * model_.sites.w[o] * inv_n0) * nq;
+    sums.visc += (occ * model_.sites.wv[o] * (1.0 + std::max(0.0, -sd) * inv_d_eff)) * model_.sites.uu[o];
   }
   sums.grad = identity ? grad_local : Vec3(c.pose.orientation * grad_local);
   return sums;
@@ -1239,18 +1237,18 @@ Nucleus::SiteSums Nucleus::site_sums(const Collider& c, std::int32_t kc, const V
 // Per collider of this step (statics, then moving): its linear and angular speed, whether its
 // orientation is the identity, and otherwise the lattice site offsets in its frame.
 void Nucleus::collider_frames(std::span<const Collider> moving) {
-  const std::size_t n_static = statics_.size();
-  const std::size_t sites = site_offset_.size();
+  const std::size_t n_static = model_.statics.size();
+  const std::size_t sites = model_.sites.offset.size();
   for (std::size_t kc = 0; kc < n_static + moving.size(); ++kc) {
-    const Collider& c = kc < n_static ? statics_[kc] : moving[kc - n_static];
-    frame_lin_speed_[kc] = c.linear_velocity_m_s.norm();
-    frame_ang_speed_[kc] = c.angular_velocity_rad_s.norm();
+    const Collider& c = kc < n_static ? model_.statics[kc] : moving[kc - n_static];
+    work_.frames.lin_speed[kc] = c.linear_velocity_m_s.norm();
+    work_.frames.ang_speed[kc] = c.angular_velocity_rad_s.norm();
     const Quat& q = c.pose.orientation;
     const bool identity = q.w() == 1.0 && q.x() == 0.0 && q.y() == 0.0 && q.z() == 0.0;
-    frame_identity_[kc] = identity ? 1 : 0;
+    work_.frames.identity[kc] = identity ? 1 : 0;
     if (identity) continue;
     const Eigen::Matrix3d to_local = q.conjugate().toRotationMatrix();
-    for (std::size_t o = 0; o < sites; ++o) site_local_[kc * sites + o] = to_local * site_offset_[o];
+    for (std::size_t o = 0; o < sites; ++o) work_.frames.site_local[kc * sites + o] = to_local * model_.sites.offset[o];
   }
 }
 
@@ -1259,22 +1257,22 @@ void Nucleus::collider_frames(std::span<const Collider> moving) {
 // collider has turned less than the tolerance over R since they were computed: the sums are
 // a function of that relative placement only (a translated collider carries its sums along;
 // the lattice of sites is world-aligned, hence the turn limit).
-const Nucleus::SiteSums& Nucleus::cached_site_sums(std::int32_t kc, const Collider& c,
+const SiteSums& Nucleus::cached_site_sums(std::int32_t kc, const Collider& c,
                                                    std::int32_t i, const Vec3& x, double d) {
-  const double tol = solver_.wall_sum_cache_tolerance * h_;
-  const Vec3 local = to_local(c.pose, frame_identity_[kc] != 0, x);
-  SiteSums* entries = &site_cache_[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];
+  const double tol = model_.solver.wall_sum_cache_tolerance * model_.h;
+  const Vec3 local = to_local(c.pose, work_.frames.identity[kc] != 0, x);
+  SiteSums* entries = &work_.site_cache.entries[kMaxWallHitsPerParticle * static_cast<std::size_t>(i)];
   SiteSums* slot = nullptr;
   for (int e = 0; e < kMaxWallHitsPerParticle; ++e) {
     if (entries[e].collider == kc) slot = &entries[e];
   }
   if (slot) {
     const bool placed = (local - slot->local).squaredNorm() < tol * tol;
-    const bool turned = !(std::abs(c.pose.orientation.dot(slot->orientation)) > cache_turn_cos_);
+    const bool turned = !(std::abs(c.pose.orientation.dot(slot->orientation)) > model_.cache_turn_cos);
     if (placed && !turned) return *slot;
   } else {
-    slot = &entries[site_cache_next_[i]];  // round robin over the particle's entries
-    site_cache_next_[i] = static_cast<std::uint8_t>((site_cache_next_[i] + 1) % kMaxWallHitsPerParticle);
+    slot = &entries[work_.site_cache.next[i]];  // round robin over the particle's entries
+    work_.site_cache.next[i] = static_cast<std::uint8_t>((work_.site_cache.next[i] + 1) % kMaxWallHitsPerParticle);
   }
   *slot = site_sums(c, kc, x, local, d);
   slot->collider = kc;
@@ -1304,53 +1302,40 @@ bool Nucleus::flat_face(const Collider& c, const Vec3& x, double d, const Vec3& 
   if (d < 0.0) return false;
   for (int k = 0; k < 3; ++k) {
     if (k == a) continue;
-    if (std::abs(local[k]) > c.half_extents_m[k] - radius_) return false;
+    if (std::abs(local[k]) > c.half_extents_m[k] - model_.radius) return false;
   }
-  return 2.0 * c.half_extents_m[a] >= radius_ - d;
+  return 2.0 * c.half_extents_m[a] >= model_.radius - d;
 }
 
 // Wall sums of a flat face normal to +z at distance d, sampled over [-h/2, R + h/2].
 void Nucleus::build_wall_table() {
-  const int samples = static_cast<int>(wall_table_.size());
-  const double lo = -0.5 * h_, hi = radius_ + 0.5 * h_;
-  wall_table_step_ = (hi - lo) / (samples - 1);
-  wall_table_lo_ = lo;
+  const int samples = static_cast<int>(model_.wall_table.entries.size());
+  const double lo = -0.5 * model_.h, hi = model_.radius + 0.5 * model_.h;
+  model_.wall_table.step = (hi - lo) / (samples - 1);
+  model_.wall_table.lo = lo;
   for (int k = 0; k < samples; ++k) {
-    const double d = lo + k * wall_table_step_;
-    const double d_eff = std::max(d, 0.25 * h_);
+    const double d = lo + k * model_.wall_table.step;
+    const double d_eff = std::max(d, 0.25 * model_.h);
     WallTableEntry e{};
-    for (std::size_t o = 0; o < site_offset_.size(); ++o) {
-      const double sd = d + site_offset_[o].z();
+    for (std::size_t o = 0; o < model_.sites.offset.size(); ++o) {
+      const double sd = d + model_.sites.offset[o].z();
       double slope = 0.0;
-      const double occ = occupancy(sd, h_, &slope);
+      const double occ = occupancy(sd, model_.h, &slope);
       if (occ <= 0.0) continue;
-      const Vec3 u = site_offset_[o] / site_len_[o];
-      const double vw = occ * site_wv_[o] * (1.0 + std::max(0.0, -sd) / d_eff);
-      e.n += occ * site_w_[o];
-      e.s2 += occ * site_wv_[o] * site_r2_[o];
-      e.grad += slope * site_w_[o] / n0_;
+      const Vec3 u = model_.sites.offset[o] / model_.sites.len[o];
+      const double vw = occ * model_.sites.wv[o] * (1.0 + std::max(0.0, -sd) / d_eff);
+      e.n += occ * model_.sites.w[o];
+      e.s2 += occ * model_.sites.wv[o] * model_.sites.r2[o];
+      e.grad += slope * model_.sites.w[o] / model_.n0;
       e.visc_n += vw * u.z() * u.z();
       e.visc_t += vw * u.x() * u.x();
     }
-    wall_table_[k] = e;
+    model_.wall_table.entries[k] = e;
   }
 }
 
-Nucleus::WallTableEntry Nucleus::wall_table_at(double d) const {
-  const double u = std::clamp((d - wall_table_lo_) / wall_table_step_, 0.0,
-                              static_cast<double>(wall_table_.size() - 1));
-  const std::size_t k = std::min(static_cast<std::size_t>(u), wall_table_.size() - 2);
-  const double f = u - k;
-  const WallTableEntry& a = wall_table_[k];
-  const WallTableEntry& b = wall_table_[k + 1];
-  return {a.n + f * (b.n - a.n), a.s2 + f * (b.s2 - a.s2), a.grad + f * (b.grad - a.grad),
-          a.visc_n + f * (b.visc_n - a.visc_n), a.visc_t + f * (b.visc_t - a.visc_t)};
-}
 
 namespace {
-
-/// Symmetric 3x3 block stored as xx, yy, zz, xy, xz, yz.
-using Sym3 = std::array<double, 6>;
 
 inline void add_outer(Sym3& m, double a, const Vec3& n) {
   m[0] += a * n.x() * n.x();
@@ -1391,27 +1376,27 @@ inline Vec3 mul(const Sym3& m, const Vec3& v) {
 // then, per pair with an awake particle, its coefficient, its forces on the right-hand side,
 // its share of the diagonal blocks and the solver's compact record.
 void Nucleus::assemble(double dt) {
-  const double R = radius_;
-  const double Rd = density_radius_;
-  const std::size_t cap = pair_cap_;
-  const std::size_t far_begin = cap - far_;
-  const std::size_t far_awake_begin = cap - far_awake_;
-  for (std::size_t k = nh_; k < nl_; ++k) {
-    density_[k] = 0.0;  // outer particles: partial sums, never read
-    second_moment_[k] = 0.0;
+  const double R = model_.radius;
+  const double Rd = model_.density_radius;
+  const std::size_t cap = work_.pairs.cap;
+  const std::size_t far_begin = cap - work_.pairs.far;
+  const std::size_t far_awake_begin = cap - work_.pairs.far_awake;
+  for (std::size_t k = work_.step.halo_end; k < work_.step.outer_end; ++k) {
+    work_.sys.density[k] = 0.0;  // outer particles: partial sums, never read
+    work_.sys.second_moment[k] = 0.0;
   }
   // Neighbour sums: density (kernel units) and second moment, the kernels' q from the
   // reciprocal radii (every near pair is inside both radii).
   const double inv_R = 1.0 / R, inv_Rd = 1.0 / Rd;
-  const double slope_scale = -3.0 * inv_Rd / n0_;  // dw/dr / n0 = slope_scale q^2
+  const double slope_scale = -3.0 * inv_Rd / model_.n0;  // dw/dr / n0 = slope_scale q^2
   // Row by row (every pair of row k has k as its first end), the first end's sums in
   // registers.
-  const std::int32_t* pj = pair_j_.data();
-  const double* pr = pair_r_.data();
-  for (std::size_t k = 0; k < nh_; ++k) {
+  const std::int32_t* pj = work_.pairs.j.data();
+  const double* pr = work_.pairs.r.data();
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) {
     double dk = 1.0;  // self
     double mk = 0.0;
-    for (std::int32_t p = row_near_[k]; p < row_near_[k + 1]; ++p) {
+    for (std::int32_t p = work_.pairs.row_near[k]; p < work_.pairs.row_near[k + 1]; ++p) {
       const std::int32_t j = pj[p];
       const double r = pr[p];
       const double qd = std::max(0.0, 1.0 - r * inv_Rd);
@@ -1419,23 +1404,23 @@ void Nucleus::assemble(double dt) {
       const double wv = viscous_weight_of(std::max(0.0, 1.0 - r * inv_R));
       const double m2 = wv * r * r;
       dk += w;
-      density_[j] += w;
-      pair_g_[p] = slope_scale * qd * qd;
+      work_.sys.density[j] += w;
+      work_.pairs.g[p] = slope_scale * qd * qd;
       mk += m2;
-      second_moment_[j] += m2;
-      pair_a_[p] = wv;
+      work_.sys.second_moment[j] += m2;
+      work_.pairs.wv[p] = wv;
     }
-    for (std::size_t p = cap - row_far_[k + 1]; p < cap - row_far_[k]; ++p) {
+    for (std::size_t p = cap - work_.pairs.row_far[k + 1]; p < cap - work_.pairs.row_far[k]; ++p) {
       const std::int32_t j = pj[p];
       const double r = pr[p];
       const double wv = viscous_weight_of(std::max(0.0, 1.0 - r * inv_R));
       const double m2 = wv * r * r;
       mk += m2;
-      second_moment_[j] += m2;
-      pair_a_[p] = wv;
+      work_.sys.second_moment[j] += m2;
+      work_.pairs.wv[p] = wv;
     }
-    density_[k] += dk;
-    second_moment_[k] += mk;
+    work_.sys.density[k] += dk;
+    work_.sys.second_moment[k] += mk;
   }
 
   // Per particle. Viscous coefficients c_ij = w_ij 2 mu V / T, with T the weighted fourth
@@ -1447,62 +1432,62 @@ void Nucleus::assemble(double dt) {
   // (free surface, loose particles) does not get an unbounded coefficient.
   // Pressure constraint C_i and which particles carry it (compression only, with a 1 % margin
   // so a particle about to be compressed is already implicit).
-  for (std::size_t k = 0; k < nh_; ++k) {
-    const std::int32_t i = lg_[k];
-    visc_coef_[k] =
-        2.0 * mu_[i] * volume_ * s0_ / (t0_ * std::max(second_moment_[k], 0.6 * s0_));
-    constraint_[k] = density_[k] / n0_ - 1.0;
-    press_coef_[k] = constraint_[k] > -0.01 ? dt * dt * kappa_[i] * volume_ : 0.0;
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) {
+    const std::int32_t i = work_.step.global[k];
+    work_.sys.visc_coef[k] =
+        2.0 * model_.mu[i] * model_.volume * model_.s0 / (model_.t0 * std::max(work_.sys.second_moment[k], 0.6 * model_.s0));
+    work_.sys.constraint[k] = work_.sys.density[k] / model_.n0 - 1.0;
+    work_.sys.press_coef[k] = work_.sys.constraint[k] > -0.01 ? dt * dt * model_.kappa[i] * model_.volume : 0.0;
   }
-  for (std::size_t k = nh_; k < nl_; ++k) {
-    constraint_[k] = 0.0;
-    press_coef_[k] = 0.0;
-    visc_coef_[k] = 0.0;
+  for (std::size_t k = work_.step.halo_end; k < work_.step.outer_end; ++k) {
+    work_.sys.constraint[k] = 0.0;
+    work_.sys.press_coef[k] = 0.0;
+    work_.sys.visc_coef[k] = 0.0;
   }
   // Right-hand side: forces at the start of the step (as dt * f) and M v0; rows beyond the
   // awake particles are scratch. Walls: the no-slip tensor, the wall pressure, the no-slip
   // drag toward a moving wall, and the density change the wall's own motion causes
   // (s_i = press_coef * sum_w grad . v_w, scattered through grad C below).
-  for (std::size_t k = 0; k < nl_; ++k) {
-    const std::int32_t i = lg_[k];
-    rhs_[k] = dt * (mass_[i] * gravity_ + f_ext_[i]);
+  for (std::size_t k = 0; k < work_.step.outer_end; ++k) {
+    const std::int32_t i = work_.step.global[k];
+    work_.sys.rhs[k] = dt * (model_.mass[i] * model_.gravity + state_.f_ext[i]);
   }
-  for (std::size_t k = 0; k < na_; ++k) {
-    mass_l_[k] = mass_[lg_[k]];
-    rhs_[k] += mass_l_[k] * v_[lg_[k]];
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
+    work_.sys.mass[k] = model_.mass[work_.step.global[k]];
+    work_.sys.rhs[k] += work_.sys.mass[k] * state_.v[work_.step.global[k]];
   }
-  for (std::size_t k = 0; k < nh_; ++k) s_[k] = 0.0;
-  for (std::size_t w = 0; w < wall_count_; ++w) {
-    const WallHit& hit = walls_[w];
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) work_.sys.div[k] = 0.0;
+  for (std::size_t w = 0; w < work_.walls.hit_count; ++w) {
+    const WallHit& hit = work_.walls.hits[w];
     const std::int32_t k = hit.particle;
-    wall_c_[wall_slot_[k]] += (dt * visc_coef_[k]) * hit.visc;
-    rhs_[k] += (dt * visc_coef_[k]) * (hit.visc * hit.v_wall);
-    s_[k] += hit.grad.dot(hit.v_wall);
+    work_.walls.c[work_.walls.slot[k]] += (dt * work_.sys.visc_coef[k]) * hit.visc;
+    work_.sys.rhs[k] += (dt * work_.sys.visc_coef[k]) * (hit.visc * hit.v_wall);
+    work_.sys.div[k] += hit.grad.dot(hit.v_wall);
   }
-  for (std::size_t k = 0; k < nh_; ++k) s_[k] *= press_coef_[k];
-  for (std::size_t w = 0; w < wall_particles_; ++w) {
-    const std::int32_t k = wall_particle_[w];
-    rhs_[k] -= dt * kappa_[lg_[k]] * volume_ * std::max(constraint_[k], 0.0) * wall_g_[w];
-    rhs_[k] += s_[k] * wall_g_[w];
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) work_.sys.div[k] *= work_.sys.press_coef[k];
+  for (std::size_t w = 0; w < work_.walls.particles; ++w) {
+    const std::int32_t k = work_.walls.particle[w];
+    work_.sys.rhs[k] -= dt * model_.kappa[work_.step.global[k]] * model_.volume * std::max(work_.sys.constraint[k], 0.0) * work_.walls.g[w];
+    work_.sys.rhs[k] += work_.sys.div[k] * work_.walls.g[w];
   }
   // Block-Jacobi preconditioner: the 3x3 diagonal blocks of the system matrix (awake rows).
-  // grad_i C_i = -sum_j g_ij n_ij + wall_g_i, accumulated in q_ as scratch.
-  for (std::size_t k = 0; k < nh_; ++k) {
-    const double m = k < na_ ? mass_l_[k] : 1.0;
-    diag_inv_[k] = {m, m, m, 0.0, 0.0, 0.0};
-    q_[k] = Vec3::Zero();
+  // grad_i C_i = -sum_j g_ij n_ij + wall_g_i, accumulated in work_.pcg.q as scratch.
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) {
+    const double m = k < work_.step.awake_end ? work_.sys.mass[k] : 1.0;
+    work_.sys.diag_inv[k] = {m, m, m, 0.0, 0.0, 0.0};
+    work_.pcg.q[k] = Vec3::Zero();
   }
-  for (std::size_t w = 0; w < wall_particles_; ++w) {
-    const std::int32_t k = wall_particle_[w];
-    const Eigen::Matrix3d& C = wall_c_[w];
-    Sym3& d = diag_inv_[k];
+  for (std::size_t w = 0; w < work_.walls.particles; ++w) {
+    const std::int32_t k = work_.walls.particle[w];
+    const Eigen::Matrix3d& C = work_.walls.c[w];
+    Sym3& d = work_.sys.diag_inv[k];
     d[0] += C(0, 0);
     d[1] += C(1, 1);
     d[2] += C(2, 2);
     d[3] += 0.5 * (C(0, 1) + C(1, 0));
     d[4] += 0.5 * (C(0, 2) + C(2, 0));
     d[5] += 0.5 * (C(1, 2) + C(2, 1));
-    q_[k] = wall_g_[w];
+    work_.pcg.q[k] = work_.walls.g[w];
   }
   // Pairs with an awake particle: the implicit coefficient dt c_ij (+ dt^2 k of its bond),
   // the bond force k (r - L) along the pair, the pressure force, the wall-motion term, the
@@ -1512,32 +1497,32 @@ void Nucleus::assemble(double dt) {
   // the same record), so it stays symmetric positive definite.
   // Per particle of the step: the pressure force factor dt kappa V max(C, 0) and half the
   // viscous coefficient times dt (zero beyond the halo).
-  double* pf = s_pf_.data();
-  double* hv = s_hv_.data();
-  for (std::size_t k = 0; k < nl_; ++k) {
-    pf[k] = dt * kappa_[lg_[k]] * volume_ * std::max(constraint_[k], 0.0);
-    hv[k] = 0.5 * dt * visc_coef_[k];
+  double* pf = work_.sys.press_force.data();
+  double* hv = work_.sys.half_visc.data();
+  for (std::size_t k = 0; k < work_.step.outer_end; ++k) {
+    pf[k] = dt * model_.kappa[work_.step.global[k]] * model_.volume * std::max(work_.sys.constraint[k], 0.0);
+    hv[k] = 0.5 * dt * work_.sys.visc_coef[k];
   }
-  const double* pc = press_coef_.data();
+  const double* pc = work_.sys.press_coef.data();
   const double dt2 = dt * dt;
   // Row by row over the awake particles (their rows hold exactly the pairs with an awake
   // particle), the first end's sums in registers.
-  for (std::size_t k = 0; k < nh_; ++k) pf[k] -= s_[k];  // pressure force less wall motion
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) pf[k] -= work_.sys.div[k];  // pressure force less wall motion
   // The arrays as local pointers: the scattered stores below could alias the vectors' own
   // members, so the compiler would otherwise reload every base pointer for every pair.
-  const Vec3* pn = pair_n_.data();
-  const double* pa = pair_a_.data();
-  const double* pg = pair_g_.data();
-  const std::int32_t* pb = pair_bond_.data();
-  const double* bk = bond_k_.data();
-  const double* brest = bond_rest_.data();
-  Vec3* rhs = rhs_.data();
-  Vec3* qv = q_.data();
-  Sym3* diag = diag_inv_.data();
-  PairKernel* kern = kernel_.data();
-  const std::int32_t* rnear = row_near_.data();
-  const std::int32_t* rfar = row_far_.data();
-  for (std::size_t i = 0; i < na_; ++i) {
+  const Vec3* pn = work_.pairs.n.data();
+  const double* pa = work_.pairs.wv.data();
+  const double* pg = work_.pairs.g.data();
+  const std::int32_t* pb = work_.pairs.bond.data();
+  const double* bk = model_.bonds.k.data();
+  const double* brest = model_.bonds.rest.data();
+  Vec3* rhs = work_.sys.rhs.data();
+  Vec3* qv = work_.pcg.q.data();
+  Sym3* diag = work_.sys.diag_inv.data();
+  PairKernel* kern = work_.pairs.kernel.data();
+  const std::int32_t* rnear = work_.pairs.row_near.data();
+  const std::int32_t* rfar = work_.pairs.row_far.data();
+  for (std::size_t i = 0; i < work_.step.awake_end; ++i) {
     const double hv_i = hv[i], pf_i = pf[i], pc_i = pc[i];
     Vec3 rhs_i = Vec3::Zero();
     Vec3 q_i = Vec3::Zero();
@@ -1598,33 +1583,33 @@ void Nucleus::assemble(double dt) {
   }
   // Pairs without an awake particle never act on an awake row (coefficient 0); their density
   // gradient still matters when a frozen particle moves (a full apply, the only reader).
-  if (frozen_moving_) {
-    for (std::size_t p = near_awake_; p < near_; ++p)
-      kernel_[p] = {static_cast<float>(pair_n_[p].x()), static_cast<float>(pair_n_[p].y()),
-                    static_cast<float>(pair_n_[p].z()), static_cast<float>(pair_g_[p]),
-                    pair_j_[p], 0.0f};
+  if (work_.step.frozen_moving) {
+    for (std::size_t p = work_.pairs.near_awake; p < work_.pairs.near; ++p)
+      work_.pairs.kernel[p] = {static_cast<float>(work_.pairs.n[p].x()), static_cast<float>(work_.pairs.n[p].y()),
+                    static_cast<float>(work_.pairs.n[p].z()), static_cast<float>(work_.pairs.g[p]),
+                    work_.pairs.j[p], 0.0f};
     for (std::size_t p = far_begin; p < far_awake_begin; ++p)
-      kernel_[p] = {0.0f, 0.0f, 0.0f, 0.0f, pair_j_[p], 0.0f};
+      work_.pairs.kernel[p] = {0.0f, 0.0f, 0.0f, 0.0f, work_.pairs.j[p], 0.0f};
   }
   // Loose bonds cache their direction and implicit coefficient dt^2 k for the solver.
-  for (std::size_t k = 0; k < loose_bonds_; ++k) {
-    const std::int32_t b = loose_[k];
-    loose_a_[k] = 0.0;
-    const std::int32_t li = loose_ij_[2 * k], lj = loose_ij_[2 * k + 1];
-    const Vec3 d = min_image(x_[lg_[lj]] - x_[lg_[li]]);
+  for (std::size_t k = 0; k < work_.loose.count; ++k) {
+    const std::int32_t b = work_.loose.bond[k];
+    work_.loose.a[k] = 0.0;
+    const std::int32_t li = work_.loose.ij[2 * k], lj = work_.loose.ij[2 * k + 1];
+    const Vec3 d = min_image(model_, state_.x[work_.step.global[lj]] - state_.x[work_.step.global[li]]);
     const double r = d.norm();
     if (r <= 0.0) continue;
-    loose_n_[k] = d / r;
-    loose_a_[k] = dt * dt * bond_k_[b];
-    const Vec3 f = dt * bond_k_[b] * (r - bond_rest_[b]) * loose_n_[k];
-    rhs_[li] += f;
-    rhs_[lj] -= f;
-    add_outer(diag_inv_[li], loose_a_[k], loose_n_[k]);
-    add_outer(diag_inv_[lj], loose_a_[k], loose_n_[k]);
+    work_.loose.n[k] = d / r;
+    work_.loose.a[k] = dt * dt * model_.bonds.k[b];
+    const Vec3 f = dt * model_.bonds.k[b] * (r - model_.bonds.rest[b]) * work_.loose.n[k];
+    work_.sys.rhs[li] += f;
+    work_.sys.rhs[lj] -= f;
+    add_outer(work_.sys.diag_inv[li], work_.loose.a[k], work_.loose.n[k]);
+    add_outer(work_.sys.diag_inv[lj], work_.loose.a[k], work_.loose.n[k]);
   }
-  for (std::size_t k = 0; k < na_; ++k) {
-    add_outer(diag_inv_[k], press_coef_[k], q_[k]);
-    diag_inv_[k] = inverse(diag_inv_[k]);
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
+    add_outer(work_.sys.diag_inv[k], work_.sys.press_coef[k], work_.pcg.q[k]);
+    work_.sys.diag_inv[k] = inverse(work_.sys.diag_inv[k]);
   }
 }
 
@@ -1646,17 +1631,17 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   static_assert(offsetof(PairKernel, nx) == 0 && offsetof(PairKernel, g) == 3 * sizeof(float) &&
                     sizeof(PairKernel) >= sizeof(F4),
                 "PairKernel must start with nx, ny, nz, g");
-  const std::size_t rows = full ? nh_ : na_;   // rows whose pairs are applied
-  const std::size_t span = full ? nl_ : nh_;   // particles those pairs reach
-  const std::size_t cap = pair_cap_;
-  F4* xf = apply_x_.data();
-  F4* yf = apply_y_.data();
-  float* s = apply_s_.data();
-  const double* m = mass_l_.data();
+  const std::size_t rows = full ? work_.step.halo_end : work_.step.awake_end;   // rows whose pairs are applied
+  const std::size_t span = full ? work_.step.outer_end : work_.step.halo_end;   // particles those pairs reach
+  const std::size_t cap = work_.pairs.cap;
+  F4* xf = work_.apply.x.data();
+  F4* yf = work_.apply.y.data();
+  float* s = work_.apply.s.data();
+  const double* m = work_.sys.mass.data();
   // Per particle, in one pass: the single-precision input, the mass and wall terms in y, and
-  // the wall part of the divergence (wall_slot_ is set on [0, nh)).
-  const std::int32_t* slot = wall_slot_.data();
-  const std::size_t walled = std::min(span, nh_);
+  // the wall part of the divergence (work_.walls.slot is set on [0, nh)).
+  const std::int32_t* slot = work_.walls.slot.data();
+  const std::size_t walled = std::min(span, work_.step.halo_end);
   auto init = [&](std::size_t k) {
     xf[k] = F4{static_cast<float>(x[k].x()), static_cast<float>(x[k].y()),
                static_cast<float>(x[k].z()), 0.0f};
@@ -1664,23 +1649,23 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
     s[k] = 0.0f;
     if (k < walled && slot[k] >= 0) {
       const std::int32_t w = slot[k];
-      y[k] += wall_c_[w] * x[k];
-      s[k] = static_cast<float>(wall_g_[w].dot(x[k]));
+      y[k] += work_.walls.c[w] * x[k];
+      s[k] = static_cast<float>(work_.walls.g[w].dot(x[k]));
     }
   };
-  for (std::size_t k = 0; k < na_; ++k) {
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
     y[k] = m[k] * x[k];
     init(k);
   }
-  for (std::size_t k = na_; k < span; ++k) {
+  for (std::size_t k = work_.step.awake_end; k < span; ++k) {
     y[k] = Vec3::Zero();
     init(k);
   }
   // Loose bonds: dt^2 k n n^T on the relative velocity (pair bonds are in the pair term).
-  for (std::size_t k = 0; k < loose_bonds_; ++k) {
-    const std::int32_t i = loose_ij_[2 * k], j = loose_ij_[2 * k + 1];
-    const Vec3& nn = loose_n_[k];
-    const Vec3 f = loose_a_[k] * nn.dot(x[j] - x[i]) * nn;
+  for (std::size_t k = 0; k < work_.loose.count; ++k) {
+    const std::int32_t i = work_.loose.ij[2 * k], j = work_.loose.ij[2 * k + 1];
+    const Vec3& nn = work_.loose.n[k];
+    const Vec3 f = work_.loose.a[k] * nn.dot(x[j] - x[i]) * nn;
     y[i] -= f;
     y[j] += f;
   }
@@ -1703,10 +1688,10 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   };
   // Far pairs: viscosity and pair bonds (a n n^T on the relative velocity). Near pairs, first
   // pass: the divergence of the pressure (s), keeping each pair's relative normal velocity dn.
-  const PairKernel* kr = kernel_.data();
-  const std::int32_t* rn = row_near_.data();
-  const std::int32_t* rf = row_far_.data();
-  float* dnp = pair_dn_.data();
+  const PairKernel* kr = work_.pairs.kernel.data();
+  const std::int32_t* rn = work_.pairs.row_near.data();
+  const std::int32_t* rf = work_.pairs.row_far.data();
+  float* dnp = work_.apply.dn.data();
   // Pairs k and k+1 of a row: their kernels' first lanes (direction, and the gradient or 0)
   // and their relative normal velocities n . (x_j - x_i).
   auto two_pairs = [&](std::size_t k, const F4& xi, F4& n0, F4& n1, float& dn0, float& dn1) {
@@ -1822,10 +1807,10 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
   // Near pairs, second pass: the viscous and bond force a dn n together with the gradient
   // pass of the pressure, y += sum_k coef_k (grad C_k . x) grad C_k, in one scattered update.
   // (The forces' last lane carries coef * g: never read.)
-  const double* pc = press_coef_.data();
+  const double* pc = work_.sys.press_coef.data();
   for (std::size_t k = 0; k < span; ++k) {
     s[k] = static_cast<float>(s[k] * pc[k]);
-    if (k < walled && slot[k] >= 0) y[k] += static_cast<double>(s[k]) * wall_g_[slot[k]];
+    if (k < walled && slot[k] >= 0) y[k] += static_cast<double>(s[k]) * work_.walls.g[slot[k]];
   }
   for (std::size_t i = 0; i < rows; ++i) {
     const float si = s[i];
@@ -1849,52 +1834,52 @@ void Nucleus::apply(const Vec3* x, Vec3* y, bool full) {
 // Witkin 1998: the filter removes the constrained components), warm started from the previous
 // velocities (the flow changes little between 1 ms ticks).
 void Nucleus::solve(NumericalReport& report) {
-  const std::size_t na = na_;
-  Vec3* v = vel_.data();
-  Vec3* r = r_.data();
-  Vec3* z = z_.data();
-  Vec3* p = p_.data();
-  Vec3* q = q_.data();
+  const std::size_t na = work_.step.awake_end;
+  Vec3* v = work_.pcg.v.data();
+  Vec3* r = work_.pcg.r.data();
+  Vec3* z = work_.pcg.z.data();
+  Vec3* p = work_.pcg.p.data();
+  Vec3* q = work_.pcg.q.data();
   auto filter = [&](Vec3* u) {
-    for (std::size_t c = 0; c < con_particles_; ++c) {
-      const std::int32_t k = con_particle_[c];
-      for (int a = 0; a < con_count_[c]; ++a) u[k] -= con_e_[c][a] * con_e_[c][a].dot(u[k]);
+    for (std::size_t c = 0; c < work_.contacts.particles; ++c) {
+      const std::int32_t k = work_.contacts.particle[c];
+      for (int a = 0; a < work_.contacts.count[c]; ++a) u[k] -= work_.contacts.e[c][a] * work_.contacts.e[c][a].dot(u[k]);
     }
   };
   // Initial guess: previous velocity with its constrained components replaced; frozen
   // particles hold still (fixed ones move at their prescribed velocity).
-  for (std::size_t k = 0; k < na; ++k) v[k] = v_[lg_[k]];
-  for (std::size_t c = 0; c < con_particles_; ++c) {
-    const std::int32_t k = con_particle_[c];
+  for (std::size_t k = 0; k < na; ++k) v[k] = state_.v[work_.step.global[k]];
+  for (std::size_t c = 0; c < work_.contacts.particles; ++c) {
+    const std::int32_t k = work_.contacts.particle[c];
     Vec3 u = v[k];
-    for (int a = 0; a < con_count_[c]; ++a) u -= con_e_[c][a] * con_e_[c][a].dot(u);
-    v[k] = u + con_v_[c];
+    for (int a = 0; a < work_.contacts.count[c]; ++a) u -= work_.contacts.e[c][a] * work_.contacts.e[c][a].dot(u);
+    v[k] = u + work_.contacts.v[c];
   }
-  for (std::size_t k = na; k < nl_; ++k) {
-    const std::int32_t i = lg_[k];
-    v[k] = fixed_[i] ? fixed_v_[i] : Vec3::Zero();
+  for (std::size_t k = na; k < work_.step.outer_end; ++k) {
+    const std::int32_t i = work_.step.global[k];
+    v[k] = model_.fixed[i] ? state_.fixed_v[i] : Vec3::Zero();
   }
-  for (const std::int32_t i : fixed_list_) v_[i] = fixed_v_[i];
-  apply(v, q, frozen_moving_);
+  for (const std::int32_t i : model_.fixed_list) state_.v[i] = state_.fixed_v[i];
+  apply(v, q, work_.step.frozen_moving);
   // A v on the constrained rows, kept along with v (A v0 + sum alpha A p): the contact forces
   // are its constrained part (reactions_and_pressure), which the filtered residual drops.
-  for (std::size_t c = 0; c < con_particles_; ++c) con_av_[c] = q[con_particle_[c]];
+  for (std::size_t c = 0; c < work_.contacts.particles; ++c) work_.contacts.av[c] = q[work_.contacts.particle[c]];
   double b_norm2 = 0.0, g_norm2 = 0.0;
-  const double g2 = gravity_.squaredNorm();
+  const double g2 = model_.gravity.squaredNorm();
   for (std::size_t k = 0; k < na; ++k) {
-    r[k] = rhs_[k] - q[k];
-    b_norm2 += rhs_[k].squaredNorm();
-    g_norm2 += mass_l_[k] * mass_l_[k] * g2;
+    r[k] = work_.sys.rhs[k] - q[k];
+    b_norm2 += work_.sys.rhs[k].squaredNorm();
+    g_norm2 += work_.sys.mass[k] * work_.sys.mass[k] * g2;
   }
   filter(r);
   // Tolerance relative to the right-hand side, but never below the weight impulse scale: at
   // rest the right-hand side cancels almost exactly and a purely relative test would ask for
   // round-off.
-  const double scale = std::sqrt(std::max(b_norm2, g_norm2 * solver_.dt_s * solver_.dt_s));
-  const double tol = solver_.tolerance * scale;
+  const double scale = std::sqrt(std::max(b_norm2, g_norm2 * model_.solver.dt_s * model_.solver.dt_s));
+  const double tol = model_.solver.tolerance * scale;
   double rz = 0.0;
   double r_norm = 0.0;
-  for (std::size_t k = 0; k < na; ++k) z[k] = mul(diag_inv_[k], r[k]);
+  for (std::size_t k = 0; k < na; ++k) z[k] = mul(work_.sys.diag_inv[k], r[k]);
   filter(z);
   for (std::size_t k = 0; k < na; ++k) {
     p[k] = z[k];
@@ -1902,19 +1887,19 @@ void Nucleus::solve(NumericalReport& report) {
     r_norm += r[k].squaredNorm();
   }
   // The iterations apply only pairs with an awake particle: p is zero on the halo.
-  for (std::size_t k = na; k < nh_; ++k) p[k] = Vec3::Zero();
+  for (std::size_t k = na; k < work_.step.halo_end; ++k) p[k] = Vec3::Zero();
   r_norm = std::sqrt(r_norm);
   int it = 0;
-  const int max_it = std::max(1, solver_.max_iterations);
+  const int max_it = std::max(1, model_.solver.max_iterations);
   while (r_norm > tol && it < max_it) {
     apply(p, q, false);
-    for (std::size_t c = 0; c < con_particles_; ++c) con_aq_[c] = q[con_particle_[c]];
+    for (std::size_t c = 0; c < work_.contacts.particles; ++c) work_.contacts.aq[c] = q[work_.contacts.particle[c]];
     filter(q);
     double pq = 0.0;
     for (std::size_t k = 0; k < na; ++k) pq += p[k].dot(q[k]);
     if (!(pq > 0.0)) break;  // converged to round-off (or a non-finite value, caught later)
     const double alpha = rz / pq;
-    for (std::size_t c = 0; c < con_particles_; ++c) con_av_[c] += alpha * con_aq_[c];
+    for (std::size_t c = 0; c < work_.contacts.particles; ++c) work_.contacts.av[c] += alpha * work_.contacts.aq[c];
     double rz_new = 0.0;
     double rn = 0.0;
     // r stays filtered (q is), so r . z equals r . (filtered z): the dot product is taken
@@ -1923,7 +1908,7 @@ void Nucleus::solve(NumericalReport& report) {
       v[k] += alpha * p[k];
       r[k] -= alpha * q[k];
       rn += r[k].squaredNorm();
-      z[k] = mul(diag_inv_[k], r[k]);
+      z[k] = mul(work_.sys.diag_inv[k], r[k]);
       rz_new += r[k].dot(z[k]);
     }
     r_norm = std::sqrt(rn);
@@ -1934,7 +1919,7 @@ void Nucleus::solve(NumericalReport& report) {
     rz = rz_new;
     for (std::size_t k = 0; k < na; ++k) p[k] = z[k] + beta * p[k];
   }
-  for (std::size_t k = 0; k < na; ++k) v_[lg_[k]] = v[k];
+  for (std::size_t k = 0; k < na; ++k) state_.v[work_.step.global[k]] = v[k];
   report.iterations = it;
   report.residual = scale > 0.0 ? r_norm / scale : 0.0;
   if (!std::isfinite(r_norm)) {
@@ -1948,29 +1933,29 @@ void Nucleus::solve(NumericalReport& report) {
 // and the wall part of the pressure. Also the particle pressures for output.
 void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving,
                                      std::span<BodyReaction> reactions) {
-  const Vec3* v = vel_.data();
-  const std::size_t rows = frozen_moving_ ? nl_ : nh_;
+  const Vec3* v = work_.pcg.v.data();
+  const std::size_t rows = work_.step.frozen_moving ? work_.step.outer_end : work_.step.halo_end;
   // Divergence of the solved velocity (relative to moving walls): C at the end of the step is
   // C + dt * s, and the pressure kappa * that.
-  for (std::size_t k = 0; k < rows; ++k) s_[k] = 0.0;
-  for (std::size_t w = 0; w < wall_particles_; ++w) {
-    const std::int32_t k = wall_particle_[w];
-    s_[k] = wall_g_[w].dot(v[k]);
+  for (std::size_t k = 0; k < rows; ++k) work_.sys.div[k] = 0.0;
+  for (std::size_t w = 0; w < work_.walls.particles; ++w) {
+    const std::int32_t k = work_.walls.particle[w];
+    work_.sys.div[k] = work_.walls.g[w].dot(v[k]);
   }
-  for (std::size_t w = 0; w < wall_count_; ++w) {
-    const WallHit& hit = walls_[w];
-    s_[hit.particle] -= hit.grad.dot(hit.v_wall);
+  for (std::size_t w = 0; w < work_.walls.hit_count; ++w) {
+    const WallHit& hit = work_.walls.hits[w];
+    work_.sys.div[hit.particle] -= hit.grad.dot(hit.v_wall);
   }
-  // Row by row (the near pairs [0, near_awake_) or [0, near_) are rows [0, na) or [0, nh)),
+  // Row by row (the near pairs [0, work_.pairs.near_awake) or [0, work_.pairs.near) are rows [0, na) or [0, nh)),
   // the first end's sum in a register: it is complete from the earlier rows when its own row
   // starts, and no later row reaches it, so the additions are the same in the same order.
   {
-    const std::size_t near_rows = frozen_moving_ ? nh_ : na_;
-    const std::int32_t* rn = row_near_.data();
-    const std::int32_t* pj = pair_j_.data();
-    const double* pg = pair_g_.data();
-    const Vec3* pn = pair_n_.data();
-    double* s = s_.data();
+    const std::size_t near_rows = work_.step.frozen_moving ? work_.step.halo_end : work_.step.awake_end;
+    const std::int32_t* rn = work_.pairs.row_near.data();
+    const std::int32_t* pj = work_.pairs.j.data();
+    const double* pg = work_.pairs.g.data();
+    const Vec3* pn = work_.pairs.n.data();
+    double* s = work_.sys.div.data();
     for (std::size_t i = 0; i < near_rows; ++i) {
       const Vec3 vi = v[i];
       double si = s[i];
@@ -1983,63 +1968,63 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
       s[i] = si;
     }
   }
-  for (std::size_t k = 0; k < nh_; ++k) {
-    const std::int32_t i = lg_[k];
-    pressure_[i] = press_coef_[k] > 0.0
-                       ? std::max(0.0, kappa_[i] * (constraint_[k] + dt * s_[k]))
+  for (std::size_t k = 0; k < work_.step.halo_end; ++k) {
+    const std::int32_t i = work_.step.global[k];
+    state_.pressure[i] = work_.sys.press_coef[k] > 0.0
+                       ? std::max(0.0, model_.kappa[i] * (work_.sys.constraint[k] + dt * work_.sys.div[k]))
                        : 0.0;
   }
   // Contact forces: the constrained part of A v - b, divided by dt (A v kept by solve()).
   std::size_t w0 = 0;
-  while (w0 < wall_count_) {
+  while (w0 < work_.walls.hit_count) {
     // The hits of one particle are consecutive.
-    const std::int32_t k = walls_[w0].particle;
-    const std::int32_t i = lg_[k];
+    const std::int32_t k = work_.walls.hits[w0].particle;
+    const std::int32_t i = work_.step.global[k];
     std::size_t end = w0;
-    while (end < wall_count_ && walls_[end].particle == k) ++end;
+    while (end < work_.walls.hit_count && work_.walls.hits[end].particle == k) ++end;
     // Split the constraint force over this particle's contacts: lambda = sum_a a_k n_k.
     double share[kMaxWallHitsPerParticle] = {0, 0, 0, 0};
-    const std::int32_t cs = k < static_cast<std::int32_t>(na_) ? con_slot_[k] : -1;
+    const std::int32_t cs = k < static_cast<std::int32_t>(work_.step.awake_end) ? work_.contacts.slot[k] : -1;
     if (cs >= 0) {
-      Vec3 lambda = (con_av_[cs] - rhs_[k]) / dt;
+      Vec3 lambda = (work_.contacts.av[cs] - work_.sys.rhs[k]) / dt;
       Vec3 constrained = Vec3::Zero();
-      for (int a = 0; a < con_count_[cs]; ++a)
-        constrained += con_e_[cs][a] * con_e_[cs][a].dot(lambda);
+      for (int a = 0; a < work_.contacts.count[cs]; ++a)
+        constrained += work_.contacts.e[cs][a] * work_.contacts.e[cs][a].dot(lambda);
       lambda = constrained;
       int idx[3];
       int nc = 0;
       for (std::size_t h = w0; h < end && nc < 3; ++h)
-        if (walls_[h].contact) idx[nc++] = static_cast<int>(h - w0);
+        if (work_.walls.hits[h].contact) idx[nc++] = static_cast<int>(h - w0);
       if (nc == 1) {
-        share[idx[0]] = lambda.dot(walls_[w0 + idx[0]].normal);
+        share[idx[0]] = lambda.dot(work_.walls.hits[w0 + idx[0]].normal);
       } else if (nc > 1) {
         Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
         Vec3 rhs = Vec3::Zero();
         for (int a = 0; a < nc; ++a) {
-          rhs[a] = walls_[w0 + idx[a]].normal.dot(lambda);
+          rhs[a] = work_.walls.hits[w0 + idx[a]].normal.dot(lambda);
           for (int b = 0; b < nc; ++b)
-            G(a, b) = walls_[w0 + idx[a]].normal.dot(walls_[w0 + idx[b]].normal);
+            G(a, b) = work_.walls.hits[w0 + idx[a]].normal.dot(work_.walls.hits[w0 + idx[b]].normal);
         }
         const Vec3 sol = G.ldlt().solve(rhs);
         for (int a = 0; a < nc; ++a) share[idx[a]] = std::isfinite(sol[a]) ? sol[a] : 0.0;
       }
       // A wall that pulls (negative share) lets go next step.
       for (int a = 0; a < nc; ++a)
-        if (share[idx[a]] < 0.0) release_[i] = 1;
+        if (share[idx[a]] < 0.0) state_.release[i] = 1;
     }
     for (std::size_t h = w0; h < end; ++h) {
-      const WallHit& w = walls_[h];
+      const WallHit& w = work_.walls.hits[h];
       if (w.collider < 0) continue;
       const Collider& c = moving[w.collider];
       if (c.body < 0 || static_cast<std::size_t>(c.body) >= reactions.size()) continue;
       BodyReaction& r = reactions[c.body];
       // Force on the body = minus the force on the particle.
       Vec3 f = -share[h - w0] * w.normal;                // contact
-      const Eigen::Matrix3d C = visc_coef_[k] * w.visc;
+      const Eigen::Matrix3d C = work_.sys.visc_coef[k] * w.visc;
       f += C * (v[k] - w.v_wall);                        // no-slip drag
-      f += volume_ * pressure_[i] * w.grad;              // wall pressure (grad points inward)
+      f += model_.volume * state_.pressure[i] * w.grad;              // wall pressure (grad points inward)
       r.force_N += f;
-      body_force_[i] += f;
+      state_.body_force[i] += f;
       const Vec3 arm = w.point - r.reference_point;
       r.torque_Nm += arm.cross(f);
       // Trace: an upper bound of the largest eigenvalue of the (PSD) coupling tensor.
@@ -2057,27 +2042,27 @@ void Nucleus::reactions_and_pressure(double dt, std::span<const Collider> moving
 // collider) is shorter than the gap: the path cannot reach the inflated surface.
 void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
                                     std::span<BodyReaction> reactions) {
-  for (const std::int32_t i : fixed_list_) x_[i] += dt * fixed_v_[i];
-  for (std::size_t k = 0; k < na_; ++k) {
-    const std::int32_t i = lg_[k];
-    x_[i] += dt * v_[i];
+  for (const std::int32_t i : model_.fixed_list) state_.x[i] += dt * state_.fixed_v[i];
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
+    const std::int32_t i = work_.step.global[k];
+    state_.x[i] += dt * state_.v[i];
   }
-  const std::size_t n_static = statics_.size();
-  const double tiny = 1e-4 * h_;
-  const double wall_range = radius_ + 0.5 * h_;
-  const double free_path = wall_range - contact_ - 0.01 * h_;
-  std::size_t hit_cursor = 0;  // walls_ holds each particle's hits consecutively, by local index
+  const std::size_t n_static = model_.statics.size();
+  const double tiny = 1e-4 * model_.h;
+  const double wall_range = model_.radius + 0.5 * model_.h;
+  const double free_path = wall_range - model_.contact - 0.01 * model_.h;
+  std::size_t hit_cursor = 0;  // work_.walls.hits holds each particle's hits consecutively, by local index
   const std::uint32_t static_bits = n_static >= 32 ? ~0u : ((1u << n_static) - 1u);
-  for (std::size_t k = 0; k < na_; ++k) {
-    const std::int32_t i = lg_[k];
-    const std::uint32_t near_mask = near_colliders_[k];
-    const bool check_all = all_colliders_[k] != 0;
-    while (hit_cursor < wall_count_ && walls_[hit_cursor].particle < static_cast<std::int32_t>(k))
+  for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
+    const std::int32_t i = work_.step.global[k];
+    const std::uint32_t near_mask = work_.cull.near_colliders[k];
+    const bool check_all = work_.cull.all_colliders[k] != 0;
+    while (hit_cursor < work_.walls.hit_count && work_.walls.hits[hit_cursor].particle < static_cast<std::int32_t>(k))
       ++hit_cursor;
     std::size_t hit_end = hit_cursor;
-    while (hit_end < wall_count_ && walls_[hit_end].particle == static_cast<std::int32_t>(k))
+    while (hit_end < work_.walls.hit_count && work_.walls.hits[hit_end].particle == static_cast<std::int32_t>(k))
       ++hit_end;
-    double moved = (x_[i] - x_start_[i]).norm();  // kept current as projections move x
+    double moved = (state_.x[i] - work_.step.x_start[i]).norm();  // kept current as projections move x
     // Statics, then the moving bodies, then the statics again: a particle squeezed between
     // the instrument and a wall ends on the wall's side (walls and bone are never crossed; an
     // overlap with the instrument is pushed out over the next steps).
@@ -2101,23 +2086,23 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       if (pass >= n_all && !projected) break;
       const std::size_t c_idx = pass < n_all ? pass : pass - n_all;
       const bool is_static = c_idx < n_static;
-      const Collider& c = is_static ? statics_[c_idx] : moving[c_idx - n_static];
+      const Collider& c = is_static ? model_.statics[c_idx] : moving[c_idx - n_static];
       if (!check_all && !(near_mask & (1u << c_idx))) {
         // Path length in the collider's frame: the particle's displacement plus how far the
         // collider's material near it moved (|v| dt + |w| dt * distance).
         double path = moved;
         if (!is_static)
-          path += (frame_lin_speed_[c_idx] +
-                   frame_ang_speed_[c_idx] * (x_start_[i] - c.pose.position).norm()) *
+          path += (work_.frames.lin_speed[c_idx] +
+                   work_.frames.ang_speed[c_idx] * (work_.step.x_start[i] - c.pose.position).norm()) *
                   dt * 1.01;
         if (path < free_path) continue;
       }
       const Pose& start = c.pose;
-      const Pose& end = is_static ? c.pose : end_pose_[c_idx - n_static];
-      const bool start_unrotated = frame_identity_[c_idx] != 0;
-      const bool end_unrotated = is_static ? start_unrotated : end_identity_[c_idx - n_static] != 0;
-      const Vec3 p0 = to_local(start, start_unrotated, x_start_[i]);
-      Vec3 p1 = to_local(end, end_unrotated, x_[i]);
+      const Pose& end = is_static ? c.pose : work_.frames.end_pose[c_idx - n_static];
+      const bool start_unrotated = work_.frames.identity[c_idx] != 0;
+      const bool end_unrotated = is_static ? start_unrotated : work_.frames.end_identity[c_idx - n_static] != 0;
+      const Vec3 p0 = to_local(start, start_unrotated, work_.step.x_start[i]);
+      Vec3 p1 = to_local(end, end_unrotated, state_.x[i]);
       const double len = (p1 - p0).norm();
       // The start distance is the one setup_walls found for this particle's hit on c (the same
       // evaluation). For an exact distance (1-Lipschitz: not the sampled bone) a path shorter
@@ -2126,23 +2111,23 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       const std::int32_t hit_id = is_static ? -1 - static_cast<std::int32_t>(c_idx)
                                             : static_cast<std::int32_t>(c_idx - n_static);
       std::size_t h = hit_cursor;
-      while (h < hit_end && walls_[h].collider != hit_id) ++h;
+      while (h < hit_end && work_.walls.hits[h].collider != hit_id) ++h;
       const bool known = h < hit_end;
       if (known && c.kind != ColliderKind::kSdfGrid &&
-          len <= walls_[h].distance - contact_ - 2.0 * tiny)
+          len <= work_.walls.hits[h].distance - model_.contact - 2.0 * tiny)
         continue;
       Vec3 n1;
       const double d1 = signed_distance_local(c, p1, &n1);
       Vec3 n0;
-      const double d0 = known ? walls_[h].distance : signed_distance_local(c, p0, &n0);
+      const double d0 = known ? work_.walls.hits[h].distance : signed_distance_local(c, p0, &n0);
       // The path cannot reach the inflated surface (triangle inequality on distances).
-      if (d1 >= contact_ - tiny && len <= d0 + d1 - 2.0 * contact_) continue;
+      if (d1 >= model_.contact - tiny && len <= d0 + d1 - 2.0 * model_.contact) continue;
       Vec3 normal;   // local normal of the face the particle is held on
       Vec3 surface;  // a local point of that face
       bool hit = false;
-      if (d0 < contact_) {
+      if (d0 < model_.contact) {
         // Started in contact: the exit side is the start side.
-        if (d1 >= contact_ - tiny) continue;
+        if (d1 >= model_.contact - tiny) continue;
         if (known) signed_distance_local(c, p0, &n0);  // the start normal, in the local frame
         normal = n0;
         surface = p0 - d0 * n0;
@@ -2153,17 +2138,17 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
         double t = 0.0;
         for (int it = 0; it < 64 && t < len; ++it) {
           Vec3 nn;
-          const double d = signed_distance_local(c, p0 + t * u, &nn) - contact_;
+          const double d = signed_distance_local(c, p0 + t * u, &nn) - model_.contact;
           if (d < tiny) {
             normal = nn;
-            surface = p0 + t * u - (d + contact_) * nn;
+            surface = p0 + t * u - (d + model_.contact) * nn;
             hit = true;
             break;
           }
           t += d;
         }
         if (!hit) {
-          if (d1 >= contact_ - tiny) continue;
+          if (d1 >= model_.contact - tiny) continue;
           normal = n1;  // ended inside without a traced entry (grazing): use the end normal
           surface = p1 - d1 * n1;
           hit = true;
@@ -2171,31 +2156,31 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
       }
       // Put the particle on the entry face's plane at the contact distance, keeping its
       // tangential motion; if that is still inside (a corner), step back to the entry side.
-      Vec3 q = p1 + std::max(0.0, contact_ - (p1 - surface).dot(normal)) * normal;
+      Vec3 q = p1 + std::max(0.0, model_.contact - (p1 - surface).dot(normal)) * normal;
       Vec3 nq;
       const double dq = signed_distance_local(c, q, &nq);
-      if (dq < contact_ - tiny) {
-        if (dq > -contact_ && nq.dot(normal) > 0.0) q += (contact_ - dq) * nq;
-        else q = surface + contact_ * normal;
+      if (dq < model_.contact - tiny) {
+        if (dq > -model_.contact && nq.dot(normal) > 0.0) q += (model_.contact - dq) * nq;
+        else q = surface + model_.contact * normal;
       }
-      x_[i] = end.apply(q);
-      moved = (x_[i] - x_start_[i]).norm();
+      state_.x[i] = end.apply(q);
+      moved = (state_.x[i] - work_.step.x_start[i]).norm();
       projected = true;
       // Remove the approaching normal velocity relative to the surface; its impulse is a
       // force on the collider's body.
       const Vec3 nw = end.orientation * normal;
-      const Vec3 vw = is_static ? Vec3::Zero() : moving[c_idx - n_static].velocity_at(x_[i]);
-      const double vn = (v_[i] - vw).dot(nw);
+      const Vec3 vw = is_static ? Vec3::Zero() : moving[c_idx - n_static].velocity_at(state_.x[i]);
+      const double vn = (state_.v[i] - vw).dot(nw);
       if (vn < 0.0) {
-        v_[i] -= vn * nw;
+        state_.v[i] -= vn * nw;
         if (!is_static) {
           const Collider& mc = moving[c_idx - n_static];
           if (mc.body >= 0 && static_cast<std::size_t>(mc.body) < reactions.size()) {
             BodyReaction& r = reactions[mc.body];
-            const Vec3 f = mass_[i] * vn / dt * nw;  // minus the particle's momentum change rate
+            const Vec3 f = model_.mass[i] * vn / dt * nw;  // minus the particle's momentum change rate
             r.force_N += f;
-            body_force_[i] += f;
-            r.torque_Nm += (x_[i] - r.reference_point).cross(f);
+            state_.body_force[i] += f;
+            r.torque_Nm += (state_.x[i] - r.reference_point).cross(f);
           }
         }
       }
@@ -2203,12 +2188,12 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
   }
   // Periodic wrap.
   for (int a = 0; a < 3; ++a) {
-    if (!options_.periodic[a]) continue;
-    const double lo = options_.periodic_min_m[a];
-    const double L = options_.periodic_max_m[a] - lo;
-    for (std::size_t k = 0; k < na_; ++k) {
-      const std::int32_t i = lg_[k];
-      x_[i][a] = lo + (x_[i][a] - lo) - L * std::floor((x_[i][a] - lo) / L);
+    if (!model_.options.periodic[a]) continue;
+    const double lo = model_.options.periodic_min_m[a];
+    const double L = model_.options.periodic_max_m[a] - lo;
+    for (std::size_t k = 0; k < work_.step.awake_end; ++k) {
+      const std::int32_t i = work_.step.global[k];
+      state_.x[i][a] = lo + (state_.x[i][a] - lo) - L * std::floor((state_.x[i][a] - lo) / L);
     }
   }
 }
@@ -2217,33 +2202,33 @@ void Nucleus::integrate_and_project(double dt, std::span<const Collider> moving,
 // (seed Eq. 9-10). Only bonds of awake or fixed particles can have changed length.
 void Nucleus::break_bonds() {
   auto test = [&](std::int32_t b) {
-    if (!bond_alive_[b]) return;
-    const std::int32_t i = bond_ij_[2 * b], j = bond_ij_[2 * b + 1];
+    if (!state_.bond_alive[b]) return;
+    const std::int32_t i = model_.bonds.ij[2 * b], j = model_.bonds.ij[2 * b + 1];
     // |r - L| > delta  <=>  r^2 > (L + delta)^2 or r^2 < (L - delta)^2 (the latter only
     // when L > delta): no square root per bond. An unbreakable bond (delta <= 0) has the
     // bounds +inf and 0, which no r^2 passes, so it needs no test of its own.
-    const double r2 = min_image(x_[j] - x_[i]).squaredNorm();
-    if (r2 > bond_break_hi2_[b] || r2 < bond_break_lo2_[b]) {
-      bond_alive_[b] = 0;
-      ++broken_;
+    const double r2 = min_image(model_, state_.x[j] - state_.x[i]).squaredNorm();
+    if (r2 > model_.bonds.break_hi2[b] || r2 < model_.bonds.break_lo2[b]) {
+      state_.bond_alive[b] = 0;
+      ++state_.broken_bonds;
       for (const std::int32_t e : {i, j}) {
-        if (fixed_[e] || wake_next_[e]) continue;
-        wake_next_[e] = 1;
-        wake_list_[wake_count_++] = e;
+        if (model_.fixed[e] || state_.wake_next[e]) continue;
+        state_.wake_next[e] = 1;
+        state_.wake_list[state_.wake_count++] = e;
       }
     }
   };
   // Every live bond of an awake particle is carried by exactly one of this step's pairs with
   // an awake particle (it was shorter than R at the start) or is a loose bond.
-  for (std::size_t p = 0; p < near_awake_; ++p)
-    if (pair_bond_[p] >= 0) test(pair_bond_[p]);
-  for (std::size_t p = pair_cap_ - far_awake_; p < pair_cap_; ++p)
-    if (pair_bond_[p] >= 0) test(pair_bond_[p]);
-  for (std::size_t k = 0; k < loose_bonds_; ++k) test(loose_[k]);
+  for (std::size_t p = 0; p < work_.pairs.near_awake; ++p)
+    if (work_.pairs.bond[p] >= 0) test(work_.pairs.bond[p]);
+  for (std::size_t p = work_.pairs.cap - work_.pairs.far_awake; p < work_.pairs.cap; ++p)
+    if (work_.pairs.bond[p] >= 0) test(work_.pairs.bond[p]);
+  for (std::size_t k = 0; k < work_.loose.count; ++k) test(work_.loose.bond[k]);
   // Fixed particles move too: all their bonds (one shared with an awake particle is tested
   // again, with the same result).
-  for (const std::int32_t u : fixed_list_)
-    for (std::int32_t a = bond_adj_start_[u]; a < bond_adj_start_[u + 1]; ++a) test(bond_adj_[a]);
+  for (const std::int32_t u : model_.fixed_list)
+    for (std::int32_t a = model_.bonds.adj_start[u]; a < model_.bonds.adj_start[u + 1]; ++a) test(model_.bonds.adj[a]);
 }
 
 }  // namespace acdr
