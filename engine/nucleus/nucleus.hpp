@@ -5,6 +5,11 @@
 // The step is one linearised backward-Euler solve for all particle velocities (see
 // nucleus.cpp for the model and the argument for it): viscosity, bond stiffness and a
 // density-based pressure are implicit, contacts are velocity constraints inside the solve.
+//
+// Inside, the data are split as MuJoCo splits mjModel and mjData: a model built once
+// (nucleus_model.hpp), a state carried from step to step (nucleus_state.hpp) and a workspace
+// the stages of a step fill in turn (nucleus_workspace.hpp); the stages are free functions,
+// one file each (nucleus_stages.hpp).
 #pragma once
 
 #include <array>
@@ -80,28 +85,6 @@ class Nucleus {
   double spacing_m() const;
 
  private:
-  void init(std::span<const Collider> static_colliders, const NucleusParticleSetup& setup);
-  void update_grid();
-  void ensure_row(std::int32_t i);
-  void wake_and_sleep(std::span<const Collider> moving, double dt);
-  void build_pairs();
-  void setup_walls(double dt, std::span<const Collider> moving);
-  void assemble(double dt);
-  void apply(const Vec3* x, Vec3* y, bool full);
-  void solve(NumericalReport& report);
-  void reactions_and_pressure(double dt, std::span<const Collider> moving,
-                              std::span<BodyReaction> reactions);
-  void integrate_and_project(double dt, std::span<const Collider> moving,
-                             std::span<BodyReaction> reactions);
-  void break_bonds();
-  SiteSums site_sums(const Collider& c, std::int32_t kc, const Vec3& x, const Vec3& local,
-                     double d) const;
-  void collider_frames(std::span<const Collider> moving);
-  const SiteSums& cached_site_sums(std::int32_t kc, const Collider& c, std::int32_t i,
-                                   const Vec3& x, double d);
-  bool flat_face(const Collider& c, const Vec3& x, double d, const Vec3& normal, int* axis) const;
-  void build_wall_table();
-
   NucleusModel model_;      // built once
   NucleusState state_;      // carried from step to step (hashed: positions, velocities)
   NucleusWorkspace work_;   // what the stages of a step pass on (and the caches)
