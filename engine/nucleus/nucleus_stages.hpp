@@ -1,0 +1,80 @@
+// The stages of a nucleus step, as free functions over the model (read only), the state and
+// the workspace, each taking the parts it reads and writes (in the spirit of MuJoCo's
+// mjModel / mjData split and Jolt's soft-body update context). Nucleus::step calls them in
+// this order; the tests call them one by one to check each stage's result. Internal to
+// engine/nucleus (the public face is nucleus.hpp).
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "engine/geometry/collider.hpp"
+#include "engine/nucleus/nucleus.hpp"
+#include "engine/nucleus/nucleus_model.hpp"
+#include "engine/nucleus/nucleus_options.hpp"
+#include "engine/nucleus/nucleus_state.hpp"
+#include "engine/nucleus/nucleus_workspace.hpp"
+
+namespace acdr::nucleus {
+
+// ---- Building (nucleus_init.cpp, nucleus_walls.cpp) ----
+
+/// The particles of the configured lattice blocks, clipped by the static colliders, and the
+/// bonds between lattice neighbours.
+NucleusParticleSetup lattice_setup(const NucleusConfig& config, const NucleusOptions& options,
+                                   std::span<const Collider> static_colliders);
+/// Fills the model from config, solver, options and gravity already set in it.
+void build_model(NucleusModel& model, std::span<const Collider> static_colliders,
+                 const NucleusParticleSetup& setup);
+/// The flat-face wall sums over the distance (part of build_model).
+void build_wall_table(NucleusModel& model);
+void init_state(const NucleusModel& model, const NucleusParticleSetup& setup,
+                NucleusState& state);
+/// Every capacity a step needs, so that a step allocates nothing.
+void reserve_workspace(const NucleusModel& model, NucleusWorkspace& work);
+
+// ---- The step, in order ----
+
+/// The last step's particles leave the local numbering; the moving colliders' end poses.
+void begin_step(NucleusState& state, NucleusWorkspace& work, std::span<const Collider> moving,
+                double dt);
+/// Neighbours (nucleus_neighbours.cpp): rebuilds the Verlet grid when two particles have
+/// moved a skin together since its last build (and then re-sorts the awake list).
+void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRows& rows);
+/// Sleep and wake (nucleus_sleep.cpp): the awake list of this step.
+void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
+                    std::span<const Collider> moving, double dt);
+/// Neighbours: this step's particles in local numbering, their pairs and loose bonds.
+void build_pairs(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work);
+/// Walls (nucleus_walls.cpp): per collider its speeds and the lattice sites in its frame.
+void collider_frames(const NucleusModel& model, ColliderFrames& frames,
+                     std::span<const Collider> moving);
+/// Walls: wall hits, wall density and second-moment sums, contact constraints.
+void setup_walls(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
+                 double dt, std::span<const Collider> moving);
+/// System assembly (nucleus_assembly.cpp): coefficients, right-hand side, preconditioner and
+/// the solver's pair records.
+void assemble(const NucleusModel& model, const NucleusState& state, NucleusWorkspace& work,
+              double dt);
+/// The operator (nucleus_operator.cpp): y = A x on the awake rows (all rows reached when
+/// `full`). Reads the assembled system in `work`; writes only `scratch`, x and y (nl each).
+void apply_operator(const NucleusWorkspace& work, ApplyScratch& scratch, const Vec3* x, Vec3* y,
+                    bool full);
+/// The PCG solve (nucleus_pcg.cpp): the awake particles' velocities into state.v.
+void solve_velocities(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
+                      NumericalReport& report);
+/// Reactions and pressure (nucleus_reactions.cpp): what the particles do to the moving
+/// bodies, and the particle pressures.
+void reactions_and_pressure(const NucleusModel& model, NucleusState& state,
+                            NucleusWorkspace& work, double dt, std::span<const Collider> moving,
+                            std::span<BodyReaction> reactions);
+/// Integration and projection (nucleus_integration.cpp): positions, swept contact
+/// projection, periodic wrap.
+void integrate_and_project(const NucleusModel& model, NucleusState& state,
+                           const NucleusWorkspace& work, double dt,
+                           std::span<const Collider> moving, std::span<BodyReaction> reactions);
+/// Bond breaking (nucleus_bonds.cpp): bonds stretched or compressed beyond their limit break
+/// and wake their particles next step.
+void break_bonds(const NucleusModel& model, NucleusState& state, const NucleusWorkspace& work);
+
+}  // namespace acdr::nucleus
