@@ -3,24 +3,12 @@
 // determinism (golden state hash). The analytic checks are in verification_case_test.cpp.
 #include "engine/nucleus/nucleus.hpp"
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
-#include <new>
 
 #include <gtest/gtest.h>
 
+#include "tests/support/counting_allocator.hpp"
 #include "verification/box_block_scene.hpp"
-
-// Allocation counter: every operator new in this test program goes through here.
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace acdr {
 namespace {
@@ -188,12 +176,12 @@ TEST(Nucleus, StepDoesNotAllocate) {
   BodyReaction reaction;
   NumericalReport r;
   n.step(1e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
-  const long before = g_allocations.load();
+  const long before = test_support::heap_allocations();
   for (int s = 0; s < 20; ++s) {
     blade.pose.position += 1e-3 * blade.linear_velocity_m_s;
     n.step(1e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
   }
-  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_EQ(test_support::heap_allocations() - before, 0);
 }
 
 TEST(Nucleus, NonFiniteInputIsReportedWithItsStage) {

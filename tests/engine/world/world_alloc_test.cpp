@@ -1,30 +1,11 @@
-// No heap allocation inside World::step (docs/architecture.md, The step): a global operator new that
-// counts, and a scoop through the nucleus that exercises waking, sleeping, neighbour-row
-// rebuilds, bond breaks and wall contact. Allocations before the counted steps (building the
+// No heap allocation inside World::step (docs/architecture.md, The step): the shared counting
+// allocator (tests/support), and a scoop through the nucleus that exercises waking, sleeping,
+// neighbour-row rebuilds, bond breaks and wall contact. Allocations before the counted steps (building the
 // world, Bullet's first contact manifolds) are allowed; none after.
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
 #include <gtest/gtest.h>
 
 #include "engine/world/world.hpp"
-
-static std::atomic<long> g_allocations{0};
-void* operator new(std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "tests/support/counting_allocator.hpp"
 
 namespace acdr {
 namespace {
@@ -56,7 +37,7 @@ TEST(WorldAllocation, StepAllocatesNothing) {
   s.pose.position = Vec3(-2e-3, 0, 0.057);
   // Warm-up: settle, let Bullet build its contact state.
   for (int i = 0; i < 60; ++i) w.step(s);
-  const long before = g_allocations.load();
+  const long before = test_support::heap_allocations();
   // Down into the material, then a drag along x and up out of it.
   for (int i = 0; i < 600; ++i) {
     const double t = i * 1e-3;
@@ -65,7 +46,7 @@ TEST(WorldAllocation, StepAllocatesNothing) {
     else s.pose.position.z() += 2e-5;
     w.step(s);
   }
-  const long during = g_allocations.load() - before;
+  const long during = test_support::heap_allocations() - before;
   ASSERT_FALSE(w.failed());
   // The scoop did exercise the nucleus: the blade met the material.
   EXPECT_GT(w.last_frame().active_particles, 0);
