@@ -4,6 +4,10 @@
 // 0.1 s trajectory; each under a 4 GB address-space limit (`ulimit -v 4000000`), ending by
 // itself, never by a signal. One spelling per quantity is walked (dt_ms, not also dt_s: the
 // loader converts both to the same SI bound, and the schema test checks that they agree).
+// Every extreme is validated; the vertebra's own dimensions (morphometry, 33 keys) are run only
+// when they are the mesh spacing: each other one remeshes both vertebrae and rebuilds their
+// grids (5-15 s apiece here, ten minutes for all), and none of them changes how much is built,
+// which the mesh spacing, the grid keys and the budget test cover.
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -158,7 +162,7 @@ TEST(AcdrSchemaBounds, EveryExtremeIsRefusedOrRunsWithinFourGigabytes) {
   // Meshes and grids cached in a directory of the test's own, shared by its runs.
   ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
 
-  int refused = 0, ran = 0, failed_numerically = 0;
+  int refused = 0, ran = 0, failed_numerically = 0, validated_only = 0;
   double slowest = 0.0;
   std::string slowest_case;
   for (const NumericKey& k : keys) {
@@ -186,6 +190,12 @@ TEST(AcdrSchemaBounds, EveryExtremeIsRefusedOrRunsWithinFourGigabytes) {
         ++refused;
         continue;
       }
+      const bool shape_only = k.pattern.rfind("/world/anatomy/morphometry/", 0) == 0 &&
+                              k.name.rfind("mesh_spacing", 0) != 0;
+      if (shape_only) {
+        ++validated_only;
+        continue;
+      }
       const std::string trajectory = write_trajectory(doc, (dir / "short.csv").string());
       const test::ProcessResult r = test::run_process(
           {ACDR_EXE, "run", scenario, "--input", "replay:" + trajectory, "--headless", "--db",
@@ -200,8 +210,8 @@ TEST(AcdrSchemaBounds, EveryExtremeIsRefusedOrRunsWithinFourGigabytes) {
       if (r.seconds > slowest) slowest = r.seconds, slowest_case = what;
     }
   }
-  std::cout << keys.size() << " numeric keys, " << refused + ran << " extremes: " << refused
-            << " refused by validate, " << ran << " ran (" << failed_numerically
+  std::cout << keys.size() << " numeric keys, " << refused + ran + validated_only << " extremes: " << refused
+            << " refused by validate, " << validated_only << " valid shapes not run, " << ran << " ran (" << failed_numerically
             << " ended in a numerical failure); slowest run " << slowest << " s (" << slowest_case << ")\n";
   fs::remove_all(dir);
 }
