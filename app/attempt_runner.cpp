@@ -1,6 +1,7 @@
 // The attempt loop.
 #include "app/attempt_runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -9,6 +10,7 @@
 #include "assessment/metrics.hpp"
 #include "assessment/scoring.hpp"
 #include "engine/devices/trajectory.hpp"
+#include "scenarios/scenario_cost.hpp"
 
 namespace acdr {
 
@@ -27,7 +29,9 @@ AttemptStepper::AttemptStepper(const ScenarioModel& scenario, World& world, Inpu
     : scenario_(scenario), world_(world), device_(device) {
   const double dt = scenario.world.solver.dt_s;
   const double limit = scenario.time_limit_s;
-  if (limit > 0) run_.record.frames.reserve(static_cast<std::size_t>(limit / dt) + 16);
+  // One frame per step; never more than the recording cap (scenarios/scenario_cost.hpp).
+  if (limit > 0)
+    run_.record.frames.reserve(std::min(static_cast<std::size_t>(limit / dt) + 16, kMaxRecordingFrames));
   run_.record.events.reserve(1024);
   sample_.pose = scenario.world.instrument_start;
   // Set now (it does not change) so checkpoints can compute metrics of the record so far.
@@ -72,7 +76,10 @@ bool AttemptStepper::step() {
     stop(AttemptEnd::kDisconnected);
   } else if (sample_.end) {
     stop(AttemptEnd::kInputEnded);
-  } else if (limit > 0 && world_.time_s() >= limit - 0.5 * dt) {
+  } else if ((limit > 0 && world_.time_s() >= limit - 0.5 * dt) ||
+             run_.record.frames.size() >= kMaxRecordingFrames) {
+    // Without a time limit, the recording cap is the limit (a validated scenario's own limit
+    // is within it).
     stop(AttemptEnd::kTimeLimit);
   }
   // Half a step of slack so a checkpoint lands on the step that reaches its time.

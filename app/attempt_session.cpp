@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/allocation_guard.hpp"
 #include "app/live_attempt.hpp"
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
@@ -281,19 +282,29 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   if (!db) return result;
   if (udp && !wait_for_bridge(*udp, options, *db, result, notes)) return result;
 
-  // The attempt.
-  result.world = std::make_unique<World>(scenario.world);
-  World& world = *result.world;
-  if (view || udp) {
-    if (!run_live(options, scenario, world, device.get(), view, result, notes, &error)) {
-      (void)abort_attempt(*db, result.attempt_id, "window failed: " + error);
-      refuse(result, "cannot open the trainee view: " + error);
-      return result;
+  // The attempt. Running out of memory ends it as aborted with a message, never a signal.
+  bool view_failed = false;
+  const std::string no_memory = run_catching_allocation_failure([&] {
+    result.world = std::make_unique<World>(scenario.world);
+    if (view || udp) {
+      view_failed = !run_live(options, scenario, *result.world, device.get(), view, result, notes, &error);
+    } else {
+      CheckpointWriter checkpoints(*db, result.attempt_id, notes);
+      result.run = run_attempt(scenario, *result.world, *device, {}, options.checkpoint_every_s,
+                               checkpoint_sink(checkpoints));
     }
-  } else {
-    CheckpointWriter checkpoints(*db, result.attempt_id, notes);
-    result.run = run_attempt(scenario, world, *device, {}, options.checkpoint_every_s,
-                             checkpoint_sink(checkpoints));
+  }, "building or running the scene");
+  if (!no_memory.empty()) {
+    result.world.reset();
+    (void)abort_attempt(*db, result.attempt_id, no_memory);
+    refuse(result, no_memory + " (attempt " + std::to_string(result.attempt_id) + " stored as aborted)");
+    return result;
+  }
+  World& world = *result.world;
+  if (view_failed) {
+    (void)abort_attempt(*db, result.attempt_id, "window failed: " + error);
+    refuse(result, "cannot open the trainee view: " + error);
+    return result;
   }
 
   // The record again: stored before the score shows, so closing the score screen loses nothing.

@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "app/allocation_guard.hpp"
 #include "cli/bench_command.hpp"
 #include "cli/dashboard_command.hpp"
 #include "cli/device_sim_command.hpp"
@@ -247,10 +248,17 @@ int main(int argc, char** argv) {
     code = acdr::run_make_trajectory(waypoints, trajectory_out, rate_hz, std::cout, std::cerr);
   });
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+  // Any command that runs out of memory says so and exits as bad input (2), never by a signal.
+  const std::string no_memory = acdr::run_catching_allocation_failure([&] {
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      code = app.exit(e);
+    }
+  }, "running the command");
+  if (!no_memory.empty()) {
+    std::cerr << "acdr: " << no_memory << "\n";
+    return 2;
   }
   return code;
 }

@@ -1,25 +1,22 @@
 // `acdr make-trajectory`: a waypoint CSV sampled into a minimum-jerk trajectory CSV.
 #include "cli/make_trajectory_command.hpp"
 
-#include <fstream>
 #include <ostream>
-#include <sstream>
 
+#include "engine/core/input_file.hpp"
 #include "engine/devices/waypoint_path.hpp"
 
 namespace acdr {
 
 int run_make_trajectory(const std::string& waypoints, const std::string& output, double rate_hz,
                         std::ostream& out, std::ostream& err) {
-  std::ifstream in(waypoints, std::ios::binary);
-  if (!in) {
-    err << waypoints << ": cannot open waypoint file\n";
+  std::string error;
+  const auto text = read_input_file(waypoints, kMaxWaypointFileBytes, "a waypoint file (CSV)", &error);
+  if (!text) {
+    err << waypoints << ": " << error << "\n";
     return 2;
   }
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string error;
-  const auto w = parse_waypoints(text.str(), waypoints, &error);
+  const auto w = parse_waypoints(*text, waypoints, &error);
   if (!w) {
     err << error << "\n";
     return 2;

@@ -1,6 +1,8 @@
-// The body of `acdr validate`: the loader does the work; this prints its verdict per file.
+// The body of `acdr validate`: the loader does the work; this prints its verdict per file, and
+// for a valid file what it will cost to run.
 #include "cli/validate_command.hpp"
 
+#include "scenarios/scenario_cost.hpp"
 #include "scenarios/scenario_loader.hpp"
 
 namespace acdr {
@@ -14,7 +16,7 @@ int run_validate(const std::vector<std::string>& files, std::ostream& out) {
   for (const std::string& path : files) {
     const LoadResult result = load_scenario_file(path);
     if (result.ok()) {
-      out << "OK " << path << '\n';
+      out << "OK " << path << " (" << cost_summary(estimate_cost(*result.model)) << ")\n";
       continue;
     }
     ++failed;

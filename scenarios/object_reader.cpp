@@ -106,6 +106,15 @@ bool inside(const Range& r, double v) {
   return true;
 }
 
+/// A denormal (subnormal) number: non-zero but below the smallest normal double. Never a
+/// physical value; arithmetic on it is slow and loses precision.
+bool denormal(double v) { return std::fpclassify(v) == FP_SUBNORMAL; }
+
+std::string denormal_text(double shown, const char* symbol, const std::string& expected) {
+  return "out of range (got " + with_unit(shown, symbol) +
+         ", a denormal number, expected 0 or a normal number: " + expected + ")";
+}
+
 void set_bounds(KeyInfo& info, const Range& r, double to_si) {
   if (r.min) (r.min_exclusive ? info.exclusive_minimum : info.minimum) = *r.min / to_si;
   if (r.max) (r.max_exclusive ? info.exclusive_maximum : info.maximum) = *r.max / to_si;
@@ -189,6 +198,10 @@ const json* ObjectReader::lookup(const std::string& key, Need need, const std::s
 
 bool ObjectReader::check_range(const std::string& key, double value_in_si, double shown_value,
                                const Range& si_range, double to_si, const char* symbol) {
+  if (denormal(shown_value) || denormal(value_in_si)) {
+    ctx_->error(child(key), denormal_text(shown_value, symbol, range_text(si_range, to_si, symbol)));
+    return false;
+  }
   if (inside(si_range, value_in_si)) return true;
   ctx_->error(child(key), "out of range (got " + with_unit(shown_value, symbol) + ", expected " +
                               range_text(si_range, to_si, symbol) + ")");
@@ -333,7 +346,10 @@ std::optional<Vec3> ObjectReader::vector3(const std::vector<UnitKey>& spellings,
     }
     const double shown = c.get<double>();
     out[i] = shown * chosen->to_si;
-    if (!inside(si_range, out[i])) {
+    if (denormal(shown) || denormal(out[i])) {
+      ctx_->error(item, denormal_text(shown, chosen->symbol, range_text(si_range, chosen->to_si, chosen->symbol)));
+      ok = false;
+    } else if (!inside(si_range, out[i])) {
       ctx_->error(item, "out of range (got " + with_unit(shown, chosen->symbol) + ", expected " +
                             range_text(si_range, chosen->to_si, chosen->symbol) + ")");
       ok = false;
@@ -362,6 +378,10 @@ std::optional<std::vector<double>> ObjectReader::numbers(const std::string& key,
     if (!is_number(c)) {
       ctx_->error(child(key) + "/" + std::to_string(i),
                   "wrong type (got " + describe_value(c) + ", expected a number)");
+      ok = false;
+    } else if (denormal(c.get<double>())) {
+      ctx_->error(child(key) + "/" + std::to_string(i),
+                  denormal_text(c.get<double>(), "", "a finite number"));
       ok = false;
     } else {
       out.push_back(c.get<double>());

@@ -5,8 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <regex>
 #include <sstream>
 
@@ -19,6 +17,7 @@
 #include "scenarios/json_position_index.hpp"
 #include "assessment/metric_catalog.hpp"
 #include "scenarios/object_reader.hpp"
+#include "scenarios/scenario_cost.hpp"
 
 namespace acdr {
 
@@ -54,6 +53,13 @@ std::vector<UnitKey> plain(const std::string& key, const char* symbol = "") {
 constexpr double kMm = 1e-3;
 /// Coordinates: anywhere within 10 m of the origin (a scene is centimetres across).
 const Range kCoordinate = Range::closed(-10.0, 10.0);
+/// Forces a zone allows: from a tenth of what a hand can feel reliably to well above a device's.
+const Range kForceLimit = Range::closed(0.001, 100.0);
+/// The shortest step: 10 kHz, ten times the haptic rate (a finer step only costs time and
+/// memory: one recorded frame per step).
+constexpr double kMinStep = 0.1e-3;
+/// Rubric figures (expert means, gate limits): any metric's value fits well within this.
+const Range kMetricValue = Range::closed(-1e9, 1e9);
 
 std::string in_quotes(const std::string& s) { return "\"" + s + "\""; }
 
@@ -95,7 +101,7 @@ void read_box(ObjectReader& r, OpenBoxConfig& b) {
     b.inner_min_m = *min;
     b.inner_max_m = *max;
   }
-  if (auto t = r.quantity(length("wall_thickness"), Need::kOptional, Range::positive(50 * kMm))) {
+  if (auto t = r.quantity(length("wall_thickness"), Need::kOptional, Range::closed(0.1 * kMm, 50 * kMm))) {
     b.wall_thickness_m = *t;
   }
   r.finish();
@@ -103,7 +109,7 @@ void read_box(ObjectReader& r, OpenBoxConfig& b) {
 
 void read_material(ObjectReader& r, MaterialConfig& m) {
   if (auto s = r.string("name", Need::kRequired, true, {}, "the material name")) m.name = *s;
-  if (auto v = r.number("density_kg_m3", Need::kOptional, Range::positive(20000.0), "kg/m³")) {
+  if (auto v = r.number("density_kg_m3", Need::kOptional, Range::closed(10.0, 20000.0), "kg/m³")) {
     m.density_kg_m3 = *v;
   }
   if (auto v = r.number("viscosity_Pa_s", Need::kOptional, Range::closed(0.0, 1e6), "Pa·s")) {
@@ -112,23 +118,14 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
   if (auto v = r.number("bond_stiffness_N_m", Need::kOptional, Range::closed(0.0, 1e5), "N/m")) {
     m.bond_stiffness_N_m = *v;
   }
-  if (auto v = r.quantity(length("bond_break"), Need::kOptional, Range::positive(10 * kMm))) {
+  if (auto v = r.quantity(length("bond_break"), Need::kOptional, Range::closed(0.001 * kMm, 10 * kMm))) {
     m.bond_break_m = *v;
   }
-  if (auto v = r.quantity(modulus("bulk_modulus"), Need::kOptional, Range::positive(1e9))) {
+  if (auto v = r.quantity(modulus("bulk_modulus"), Need::kOptional, Range::closed(1.0, 1e9))) {
     m.bulk_modulus_Pa = *v;
   }
   if (auto v = r.boolean("counts_as_target", Need::kOptional)) m.counts_as_target = *v;
   r.finish();
-}
-
-/// Particles a block will hold on a lattice of spacing h (an estimate: floor(size/h) + 1 per axis).
-double estimated_particles(const ParticleBlockConfig& b, double h) {
-  double n = 1.0;
-  for (int i = 0; i < 3; ++i) n *= std::floor((b.max_m[i] - b.min_m[i]) / h) + 1.0;
-  // An elliptic region fills at most pi/4 of its box.
-  if (b.shape == BlockShape::kEllipticCylinder) n *= 0.7854;
-  return n;
 }
 
 // anatomy: block shapes for the disc space
@@ -147,13 +144,15 @@ void read_block_shape(ObjectReader& br, ParticleBlockConfig& b) {
   if (auto c = br.vector3(length("center"), Need::kOptional, kCoordinate)) b.center_m = *c;
   else b.center_m = 0.5 * (b.min_m + b.max_m);
   if (auto v = br.numbers("semi_axes_mm", elliptic ? Need::kRequiredHere : Need::kOptional, 2)) {
-    if ((*v)[0] > 0 && (*v)[1] > 0) {
+    // Bounds as for every length of a block: from a fraction of a lattice spacing to the box.
+    auto practical = [](double mm) { return mm >= 0.1 && mm <= 10000.0; };
+    if (practical((*v)[0]) && practical((*v)[1])) {
       b.semi_a_m = (*v)[0] * kMm;
       b.semi_b_m = (*v)[1] * kMm;
     } else {
-      br.context().error(br.child("semi_axes_mm"), "semi-axes must be positive (got [" +
+      br.context().error(br.child("semi_axes_mm"), "semi-axes out of range (got [" +
                                                        format_number((*v)[0]) + ", " + format_number((*v)[1]) +
-                                                       "] mm, expected two lengths > 0)");
+                                                       "] mm, expected two lengths from 0.1 mm to 10000 mm)");
     }
   }
   if (auto v = br.numbers("hole_semi_axes_mm", Need::kOptional, 2)) {
@@ -178,7 +177,7 @@ void read_block_shape(ObjectReader& br, ParticleBlockConfig& b) {
 // anatomy: vertebrae, bone distance grid, danger zones
 
 void read_vertebra(ObjectReader& r, VertebraParams& v) {
-  const Range len = Range::positive(50 * kMm);
+  const Range len = Range::closed(0.1 * kMm, 50 * kMm);
   auto set = [&](const char* base, double& field) {
     if (auto x = r.quantity(length(base), Need::kOptional, len)) field = *x;
   };
@@ -204,8 +203,8 @@ void read_vertebra(ObjectReader& r, VertebraParams& v) {
 }
 
 void read_morphometry(ObjectReader& r, SegmentParams& p) {
-  if (auto x = r.quantity(length("disc_height"), Need::kOptional, Range::positive(20 * kMm))) p.disc_height_m = *x;
-  if (auto x = r.quantity(length("facet_gap"), Need::kOptional, Range::positive(5 * kMm))) p.facet_gap_m = *x;
+  if (auto x = r.quantity(length("disc_height"), Need::kOptional, Range::closed(0.5 * kMm, 20 * kMm))) p.disc_height_m = *x;
+  if (auto x = r.quantity(length("facet_gap"), Need::kOptional, Range::closed(0.01 * kMm, 5 * kMm))) p.facet_gap_m = *x;
   if (auto x = r.quantity(length("mesh_spacing"), Need::kOptional, Range::closed(0.1 * kMm, 2 * kMm))) {
     p.mesh_spacing_m = *x;
   }
@@ -264,12 +263,12 @@ void read_sdf(ObjectReader& r, AnatomyConfig& a) {
 /// Defaults of one kind of generated zone.
 void read_zone_defaults(ObjectReader& r, double* radius, double* warning, double* force, double* depth) {
   if (radius) {
-    if (auto x = r.quantity(length("radius"), Need::kOptional, Range::positive(20 * kMm))) *radius = *x;
+    if (auto x = r.quantity(length("radius"), Need::kOptional, Range::closed(0.1 * kMm, 20 * kMm))) *radius = *x;
   }
   if (auto x = r.quantity(length("warning"), Need::kOptional, Range::closed(0.0, 20 * kMm))) *warning = *x;
-  if (auto x = r.number("force_limit_N", Need::kOptional, Range::positive(100.0), "N")) *force = *x;
+  if (auto x = r.number("force_limit_N", Need::kOptional, kForceLimit, "N")) *force = *x;
   if (depth) {
-    if (auto x = r.quantity(length("depth"), Need::kOptional, Range::positive(20 * kMm))) *depth = *x;
+    if (auto x = r.quantity(length("depth"), Need::kOptional, Range::closed(0.1 * kMm, 20 * kMm))) *depth = *x;
   }
   r.finish();
 }
@@ -288,11 +287,11 @@ void read_zone(ObjectReader& r, DangerZone& z) {
   if (auto a = r.vector3(length("a"), point ? Need::kRequiredHere : Need::kOptional, kCoordinate)) z.a_m = *a;
   if (auto b = r.vector3(length("b"), shape == "capsule" ? Need::kRequiredHere : Need::kOptional, kCoordinate)) z.b_m = *b;
   if (auto x = r.quantity(length("radius"), shape == "sphere" || shape == "capsule" ? Need::kRequiredHere : Need::kOptional,
-                          Range::positive(50 * kMm))) {
+                          Range::closed(0.1 * kMm, 50 * kMm))) {
     z.radius_m = *x;
   }
   if (auto e = r.vector3(length("half_extents"), shape == "box" ? Need::kRequiredHere : Need::kOptional,
-                         Range::positive(100 * kMm))) {
+                         Range::closed(0.1 * kMm, 100 * kMm))) {
     z.half_extents_m = *e;
   }
   if (auto q = r.numbers("orientation_wxyz", Need::kOptional, 4)) {
@@ -316,7 +315,7 @@ void read_zone(ObjectReader& r, DangerZone& z) {
     z.region_max_m = *rmax;
   }
   if (auto x = r.quantity(length("warning"), Need::kRequired, Range::closed(0.0, 20 * kMm))) z.warning_distance_m = *x;
-  if (auto x = r.number("force_limit_N", Need::kRequired, Range::positive(100.0), "N")) z.force_limit_N = *x;
+  if (auto x = r.number("force_limit_N", Need::kRequired, kForceLimit, "N")) z.force_limit_N = *x;
   if (auto b = r.boolean("never_event", Need::kRequired)) z.never_event = *b;
   r.finish();
 }
@@ -496,14 +495,6 @@ void read_nucleus(ObjectReader& r, NucleusConfig& n) {
     n.blocks.push_back(b);
   }
 
-  double total = 0.0;
-  for (const ParticleBlockConfig& b : n.blocks) total += estimated_particles(b, n.spacing_m);
-  if (total > kMaxScenarioParticles) {
-    r.context().error(r.child("blocks"),
-                      "too many particles (got about " + format_number(std::round(total)) +
-                          " at spacing " + format_number(n.spacing_m / kMm) + " mm, expected at most " +
-                          format_number(kMaxScenarioParticles) + "; use a larger spacing or smaller blocks)");
-  }
   r.finish();
 }
 
@@ -512,26 +503,26 @@ void read_instrument(ObjectReader& r, InstrumentConfig& in) {
   if (auto s = r.string("shape", Need::kOptional, true, {"prism", "cup_curette"})) {
     in.shape = *s == "prism" ? InstrumentShape::kPrism : InstrumentShape::kCupCurette;
   }
-  if (auto v = r.quantity(mass("mass"), Need::kOptional, Range::positive(5.0))) in.mass_kg = *v;
-  if (auto v = r.quantity(length("shaft_length"), Need::kOptional, Range::positive(0.5))) {
+  if (auto v = r.quantity(mass("mass"), Need::kOptional, Range::closed(1e-3, 5.0))) in.mass_kg = *v;
+  if (auto v = r.quantity(length("shaft_length"), Need::kOptional, Range::closed(5 * kMm, 0.5))) {
     in.shaft_length_m = *v;
   }
-  if (auto v = r.quantity(length("shaft_diameter"), Need::kOptional, Range::positive(20 * kMm))) {
+  if (auto v = r.quantity(length("shaft_diameter"), Need::kOptional, Range::closed(0.1 * kMm, 20 * kMm))) {
     in.shaft_diameter_m = *v;
   }
-  if (auto v = r.quantity(stress("yield_stress"), Need::kOptional, Range::positive(5000e6))) {
+  if (auto v = r.quantity(stress("yield_stress"), Need::kOptional, Range::closed(1e6, 5000e6))) {
     in.yield_stress_Pa = *v;
   }
-  if (auto v = r.number("warning_fraction", Need::kOptional, Range::positive(1.0))) {
+  if (auto v = r.number("warning_fraction", Need::kOptional, Range::closed(0.01, 1.0))) {
     in.warning_fraction = *v;
   }
-  if (auto v = r.vector3(length("blade_size"), Need::kOptional, Range::positive(100 * kMm))) {
+  if (auto v = r.vector3(length("blade_size"), Need::kOptional, Range::closed(0.1 * kMm, 100 * kMm))) {
     in.blade_size_m = *v;
   }
-  if (auto v = r.quantity(length("cup_diameter"), Need::kOptional, Range::positive(20 * kMm))) {
+  if (auto v = r.quantity(length("cup_diameter"), Need::kOptional, Range::closed(0.1 * kMm, 20 * kMm))) {
     in.cup_diameter_m = *v;
   }
-  if (auto v = r.quantity(length("cup_depth"), Need::kOptional, Range::positive(20 * kMm))) {
+  if (auto v = r.quantity(length("cup_depth"), Need::kOptional, Range::closed(0.1 * kMm, 20 * kMm))) {
     in.cup_depth_m = *v;
   }
   // 90 deg: a straight curette opening sideways; up to 180 deg: angled back toward the handle.
@@ -539,7 +530,7 @@ void read_instrument(ObjectReader& r, InstrumentConfig& in) {
                         "deg")) {
     in.cup_opening_angle_rad = *v * M_PI / 180.0;
   }
-  auto wall = r.quantity(length("cup_wall"), Need::kOptional, Range::positive(5 * kMm));
+  auto wall = r.quantity(length("cup_wall"), Need::kOptional, Range::closed(0.01 * kMm, 5 * kMm));
   if (wall) in.cup_wall_m = *wall;
   if (2.0 * in.cup_wall_m >= in.cup_diameter_m) {
     const std::string key = r.has("cup_wall_m") ? "cup_wall_m" : "cup_wall_mm";
@@ -585,13 +576,13 @@ void read_instrument_start(ObjectReader& r, Pose& pose) {
 }
 
 void read_coupling(ObjectReader& r, CouplingConfig& c) {
-  if (auto v = r.number("stiffness_N_m", Need::kOptional, Range::positive(1e5), "N/m")) {
+  if (auto v = r.number("stiffness_N_m", Need::kOptional, Range::closed(1.0, 1e5), "N/m")) {
     c.stiffness_N_m = *v;
   }
   if (auto v = r.number("damping_Ns_m", Need::kOptional, Range::closed(0.0, 1e4), "N·s/m")) {
     c.damping_Ns_m = *v;
   }
-  if (auto v = r.number("rot_stiffness_Nm_rad", Need::kOptional, Range::positive(1e3), "N·m/rad")) {
+  if (auto v = r.number("rot_stiffness_Nm_rad", Need::kOptional, Range::closed(1e-3, 1e3), "N·m/rad")) {
     c.rot_stiffness_Nm_rad = *v;
   }
   if (auto v = r.number("rot_damping_Nms_rad", Need::kOptional, Range::closed(0.0, 1e3), "N·m·s/rad")) {
@@ -617,23 +608,23 @@ void read_device(ObjectReader& r, DeviceConfig& d) {
   else if (!has_preset) d.name = "custom";
   // Without a preset the rated force must be stated: a wrong limit is felt by the user.
   if (auto v = r.number("max_force_N", has_preset ? Need::kOptional : Need::kRequiredHere,
-                        Range::positive(100.0), "N")) {
+                        Range::closed(0.01, 100.0), "N")) {
     d.max_force_N = *v;
   }
-  if (auto v = r.number("max_force_rate_N_s", Need::kOptional, Range::positive(1e6), "N/s")) {
+  if (auto v = r.number("max_force_rate_N_s", Need::kOptional, Range::closed(0.1, 1e6), "N/s")) {
     d.max_force_rate_N_s = *v;
   }
   if (auto v = r.number("ramp_in_s", Need::kOptional, Range::closed(0.0, 60.0), "s")) d.ramp_in_s = *v;
-  if (auto v = r.quantity(length("max_jump"), Need::kOptional, Range::positive(1.0))) d.max_jump_m = *v;
+  if (auto v = r.quantity(length("max_jump"), Need::kOptional, Range::closed(0.01 * kMm, 1.0))) d.max_jump_m = *v;
   r.finish();
 }
 
 void read_solver(ObjectReader& r, SolverConfig& s) {
-  if (auto v = r.quantity(duration("dt"), Need::kOptional, Range::positive(10e-3))) s.dt_s = *v;
+  if (auto v = r.quantity(duration("dt"), Need::kOptional, Range::closed(kMinStep, 10e-3))) s.dt_s = *v;
   if (auto v = r.integer("max_iterations", Need::kOptional, Range::closed(1, 10000))) {
     s.max_iterations = *v;
   }
-  if (auto v = r.number("tolerance", Need::kOptional, Range::positive(0.5))) s.tolerance = *v;
+  if (auto v = r.number("tolerance", Need::kOptional, Range::closed(1e-10, 0.5))) s.tolerance = *v;
   if (auto v = r.boolean("sleep_enabled", Need::kOptional)) s.sleep_enabled = *v;
   if (auto v = r.quantity(speed("sleep_speed"), Need::kOptional, Range::closed(0.0, 1.0))) {
     s.sleep_speed_m_s = *v;
@@ -700,8 +691,8 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
     if (auto s = tr.string("metric", Need::kRequired, true, metrics, "the metric to score", zone_metric_pattern())) {
       t.metric = *s;
     }
-    if (auto v = tr.number("expert_mean", Need::kRequired, Range::any())) t.expert_mean = *v;
-    if (auto v = tr.number("expert_sd", Need::kRequired, {0.0, std::nullopt, true, false})) {
+    if (auto v = tr.number("expert_mean", Need::kRequired, kMetricValue)) t.expert_mean = *v;
+    if (auto v = tr.number("expert_sd", Need::kRequired, Range::closed(1e-9, 1e9))) {
       t.expert_sd = *v;
     }
     if (auto v = tr.boolean("higher_is_better", Need::kRequired)) t.higher_is_better = *v;
@@ -716,7 +707,7 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
     if (auto s = gr.string("metric", Need::kRequired, true, metrics, "the metric to limit", zone_metric_pattern())) {
       g.metric = *s;
     }
-    if (auto v = gr.number("max", Need::kRequired, Range::any())) g.max = *v;
+    if (auto v = gr.number("max", Need::kRequired, kMetricValue)) g.max = *v;
     gr.finish();
     rubric.gates.push_back(g);
   }
@@ -801,6 +792,77 @@ void read_document(ObjectReader& r, ScenarioModel& m) {
   r.finish();
 }
 
+// ---------------------------------------------------------------------------------------------
+// budget
+
+/// The first of `pointers` present in `doc` (the spelling the file used), else the last.
+std::string present(const json& doc, const std::vector<std::string>& pointers) {
+  for (const std::string& p : pointers) {
+    if (doc.contains(json::json_pointer(p))) return p;
+  }
+  return pointers.back();
+}
+
+/// Refuses a scenario whose estimated cost exceeds the budget (scenario_cost.hpp), each
+/// figure at the key that drives it. Run only on a file without other errors.
+void check_budget(LoadContext& ctx, const json& doc, const ScenarioModel& m) {
+  using B = ScenarioBudget;
+  const ScenarioCost c = estimate_cost(m);
+  const WorldConfig& w = m.world;
+  const std::string spacing = format_number(w.nucleus.spacing_m / kMm) + " mm";
+  const std::size_t before = ctx.error_count();
+  if (c.particles > B::kParticles) {
+    ctx.error("/world/nucleus/blocks",
+              "too many particles (got about " + format_number(std::round(c.particles)) + " at spacing " +
+                  spacing + ", expected at most " + format_number(B::kParticles) +
+                  "; use a larger spacing or smaller blocks)");
+  }
+  if (c.bonds > B::kBonds) {
+    ctx.error(present(doc, {"/world/nucleus/bond_radius_factor", "/world/nucleus/blocks"}),
+              "too many bonds (got about " + format_number(std::round(c.bonds)) + ": " +
+                  format_number(std::round(c.particles)) + " particles with " +
+                  std::to_string(lattice_neighbours_within(w.nucleus.bond_radius_factor)) +
+                  " lattice neighbours each within " + format_number(w.nucleus.bond_radius_factor) +
+                  " spacings, expected at most " + format_number(B::kBonds) +
+                  "; use a smaller bond_radius_factor or fewer particles)");
+  }
+  if (c.grid_cells > B::kGridCells && c.vertebra_samples > 0.5 * c.grid_cells) {
+    ctx.error(present(doc, {"/world/anatomy/morphometry/mesh_spacing_mm", "/world/anatomy/morphometry/mesh_spacing_m",
+                            "/world/anatomy/morphometry", "/world/anatomy"}),
+              "distance grids too large (got about " + format_number(std::round(c.grid_cells)) +
+                  " samples, " + format_number(std::round(c.vertebra_samples)) +
+                  " of them to mesh the vertebrae at mesh_spacing " +
+                  format_number(w.anatomy.segment.mesh_spacing_m / kMm) + " mm, expected at most " +
+                  format_number(B::kGridCells) + "; use a coarser mesh_spacing)");
+  } else if (c.grid_cells > B::kGridCells) {
+    const AnatomyConfig& a = w.anatomy;
+    ctx.error(present(doc, {"/world/anatomy/sdf/spacing_mm", "/world/anatomy/sdf/spacing_m",
+                            "/world/anatomy/sdf/zone_spacing_mm", "/world/anatomy/sdf/zone_spacing_m",
+                            "/world/anatomy/sdf", "/world/anatomy"}),
+              "distance grids too large (got about " + format_number(std::round(c.grid_cells)) +
+                  " samples at spacing " + format_number(a.sdf.spacing_m / kMm) + " mm and zone_spacing " +
+                  format_number(a.zone_sdf_spacing_m / kMm) + " mm over the grid region and a margin of " +
+                  format_number(a.sdf.margin_m / kMm) + " mm, expected at most " + format_number(B::kGridCells) +
+                  "; use a coarser spacing, a smaller margin or a smaller region)");
+  }
+  if (c.recording_frames > B::kRecordingFrames) {
+    ctx.error(present(doc, {"/time_limit_s"}),
+              "recording too long (got " + format_number(c.recording_frames) + " frames: " +
+                  format_number(m.time_limit_s) + " s at a " + format_number(w.solver.dt_s / kMm) +
+                  " ms step, expected at most " + format_number(B::kRecordingFrames) +
+                  "; shorten time_limit_s or lengthen the step)");
+  }
+  // The memory of all together, when no single figure is already over.
+  if (ctx.error_count() == before && c.bytes > B::kBytes) {
+    ctx.error("/world", "estimated memory too large (got " + format_bytes(c.bytes) + " for " +
+                            format_number(std::round(c.particles)) + " particles, " +
+                            format_number(std::round(c.bonds)) + " bonds, " +
+                            format_number(std::round(c.grid_cells)) + " grid samples and " +
+                            format_number(c.recording_frames) + " frames, expected at most " +
+                            format_bytes(B::kBytes) + ")");
+  }
+}
+
 /// nlohmann's messages start "[json.exception.parse_error.101] parse error at line 3,
 /// column 5: "; keep what follows (our own prefix gives the position).
 std::string parse_detail(const std::string& what) {
@@ -882,6 +944,8 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
   model->hash = fnv1a64_hex(text);
   ObjectReader root(ctx, doc, "", "");
   if (root.valid()) read_document(root, *model);
+  // What it will cost, once every number is known to be in range.
+  if (ctx.error_count() == 0) check_budget(ctx, doc, *model);
 
   result.errors = std::move(ctx.errors());
   std::stable_sort(result.errors.begin(), result.errors.end(),
@@ -891,31 +955,16 @@ LoadResult load_scenario_text(const std::string& text, const std::string& path,
 }
 
 LoadResult load_scenario_file(const std::string& path) {
-  // A directory reads as empty and a FIFO without a writer would block forever: refuse both.
-  std::error_code ec;
-  const std::filesystem::file_status st = std::filesystem::status(path, ec);
-  if (!ec && (std::filesystem::is_directory(st) || std::filesystem::is_fifo(st) ||
-              std::filesystem::is_socket(st))) {
+  // Only a regular file, opened without blocking and capped (engine/core/input_file.hpp).
+  std::string error;
+  const std::optional<std::string> text =
+      read_input_file(path, kMaxScenarioFileBytes, "a scenario file", &error);
+  if (!text) {
     LoadResult r;
-    r.errors.push_back({path, 0, 0, "", "not a regular file (expected a scenario file)"});
+    r.errors.push_back({path, 0, 0, "", error});
     return r;
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    LoadResult r;
-    r.errors.push_back({path, 0, 0, "", "cannot open the file (expected a readable scenario file)"});
-    return r;
-  }
-  // Read at most one byte more than the limit, so a huge file is refused without reading it all.
-  std::string text(kMaxScenarioFileBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  if (in.bad()) {
-    LoadResult r;
-    r.errors.push_back({path, 0, 0, "", "cannot read the file (expected a readable scenario file)"});
-    return r;
-  }
-  return load_scenario_text(text, path, nullptr);
+  return load_scenario_text(*text, path, nullptr);
 }
 
 }  // namespace acdr

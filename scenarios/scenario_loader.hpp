@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/core/input_file.hpp"
 #include "scenarios/key_registry.hpp"
 #include "scenarios/scenario_error.hpp"
 #include "scenarios/scenario_model.hpp"
@@ -19,13 +20,6 @@ struct LoadResult {
 
   bool ok() const { return model != nullptr; }
 };
-
-/// Largest scenario file accepted (bytes). Real scenarios are a few kB.
-inline constexpr std::size_t kMaxScenarioFileBytes = 4u << 20;
-
-/// Largest nucleus the loader lets through: the estimated particle count over all blocks.
-/// Keeps a valid-looking file (say, 0.1 mm spacing in a large block) from stalling the engine.
-inline constexpr double kMaxScenarioParticles = 1.0e6;
 
 /// Reads and validates `path`. A missing or unreadable file is one error.
 LoadResult load_scenario_file(const std::string& path);

@@ -2,11 +2,10 @@
 #include "scenarios/verification_case_file.hpp"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "engine/core/input_file.hpp"
 #include "scenarios/json_position_index.hpp"
 #include "scenarios/key_suggestion.hpp"
 
@@ -158,15 +157,14 @@ VerificationCaseFile parse_verification_case_file(const std::string& text,
 }
 
 VerificationCaseFile load_verification_case_file(const std::string& path, bool fast) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
+  std::string error;
+  const auto text = read_input_file(path, kMaxCaseFileBytes, "a verification case file (JSON)", &error);
+  if (!text) {
     VerificationCaseFile out;
-    out.errors.push_back({path, 0, 0, "", "cannot read the file (expected a readable JSON file)"});
+    out.errors.push_back({path, 0, 0, "", error});
     return out;
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_verification_case_file(text.str(), path, fast);
+  return parse_verification_case_file(*text, path, fast);
 }
 
 }  // namespace acdr

@@ -11,6 +11,7 @@ ACDR_PACKAGES=(
   libosmesa6-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   libtinyobjloader-dev zlib1g-dev libcurl4-openssl-dev
   libcgal-dev libgmp-dev libmpfr-dev libsuitesparse-dev
+  clang libclang-rt-14-dev
   xvfb xauth
 )
 

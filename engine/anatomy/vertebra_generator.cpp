@@ -225,18 +225,37 @@ SegmentLandmarks segment_landmarks(const SegmentParams& p) {
   return l;
 }
 
-TriangleMesh generate_vertebra(const SegmentParams& p, VertebraLevel level,
-                               VertebraMeshStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+/// The box the implicit solid is sampled over: generous enough that the solid is positive on
+/// the grid boundary.
+void sample_bounds(const SegmentParams& p, VertebraLevel level, Vec3* lo, Vec3* hi) {
   const VertebraParams& v = level == VertebraLevel::kC4 ? p.c4 : p.c5;
   const Derived d = derive(v, p.disc_height_m, p.disc_height_m);
-  // Local bounds generous enough that the implicit solid is positive on the grid boundary.
   const double x = d.x_ft + d.r_ft + v.transverse_process_reach_m + 4.0 * kMm;
   const double y = 0.5 * d.H + std::max(v.uncinate_height_m, p.disc_height_m) + 7.0 * kMm;
   const double z_back = d.zb - v.canal_sagittal_m - 2.0 * v.lamina_thickness_m -
                         v.spinous_process_length_m - 6.0 * kMm;
   const Vec3 c = vertebra_center(p, level);
-  const Vec3 lo = c + Vec3(-x, -y, z_back), hi = c + Vec3(x, y, d.zf + 2.0 * kMm);
+  *lo = c + Vec3(-x, -y, z_back);
+  *hi = c + Vec3(x, y, d.zf + 2.0 * kMm);
+}
+
+}  // namespace
+
+double vertebra_grid_samples(const SegmentParams& p, VertebraLevel level) {
+  Vec3 lo, hi;
+  sample_bounds(p, level, &lo, &hi);
+  double n = 1.0;
+  for (int a = 0; a < 3; ++a) n *= std::ceil(std::max(0.0, hi[a] - lo[a]) / p.mesh_spacing_m) + 1.0;
+  return n;
+}
+
+TriangleMesh generate_vertebra(const SegmentParams& p, VertebraLevel level,
+                               VertebraMeshStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  Vec3 lo, hi;
+  sample_bounds(p, level, &lo, &hi);
   const ScalarGrid grid = sample_function(
       [&](const Vec3& q) { return vertebra_implicit(p, level, q); }, lo, hi, p.mesh_spacing_m,
       /*lipschitz=*/true);

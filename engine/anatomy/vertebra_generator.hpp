@@ -111,6 +111,10 @@ struct VertebraMeshStats {
   double volume_m3 = 0.0;
 };
 
+/// Samples of the grid `generate_vertebra` evaluates the implicit solid on (its memory and
+/// time grow with this), from the parameters alone.
+double vertebra_grid_samples(const SegmentParams& params, VertebraLevel level);
+
 /// Meshes one vertebra in the segment frame. The mesh passes `check_closed_mesh`.
 TriangleMesh generate_vertebra(const SegmentParams& params, VertebraLevel level,
                                VertebraMeshStats* stats = nullptr);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "engine/core/input_file.hpp"
 #include "engine/core/state_hash.hpp"
 
 namespace acdr {
@@ -25,12 +26,8 @@ std::string cache_file_path(const std::string& dir, std::uint64_t key, const std
 }
 
 std::optional<std::string> read_cache_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) return std::nullopt;
-  return buffer.str();
+  // A cache file is ours, but its directory is the user's: the same checks as any input.
+  return read_input_file(path, kMaxCacheFileBytes, "a cache file", nullptr);
 }
 
 bool write_cache_file(const std::string& path, std::string_view bytes, std::string* error) {

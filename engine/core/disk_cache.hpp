@@ -16,7 +16,8 @@ std::string default_cache_dir(const std::string& sub);
 /// "<dir>/<16 hex digits of key><suffix>".
 std::string cache_file_path(const std::string& dir, std::uint64_t key, const std::string& suffix);
 
-/// The whole file, or nullopt when it does not exist or cannot be read.
+/// The whole file, or nullopt when it does not exist, cannot be read, is not a regular file or
+/// is larger than kMaxCacheFileBytes (engine/core/input_file.hpp).
 std::optional<std::string> read_cache_file(const std::string& path);
 
 /// Creates the directory if needed, writes to a temporary name and renames it into place.

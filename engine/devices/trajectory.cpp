@@ -4,13 +4,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
+
+#include "engine/core/input_file.hpp"
 
 namespace acdr {
 namespace {
 
 constexpr const char* kHeader = "t_s,x_m,y_m,z_m,qw,qx,qy,qz";
+
+std::string format_time(double t) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", t);
+  return buf;
+}
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
@@ -19,19 +26,55 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+/// A decimal number as CSV writers spell it: [sign] digits [. digits] [e [sign] digits], with
+/// at least one digit before the exponent. strtod alone would also take hexadecimal ("0x1p-3"),
+/// "inf" and "nan", which no trajectory writer produces on purpose.
+bool is_decimal_number(const std::string& f) {
+  std::size_t i = 0;
+  const std::size_t n = f.size();
+  auto digits = [&] {
+    const std::size_t from = i;
+    while (i < n && f[i] >= '0' && f[i] <= '9') ++i;
+    return i - from;
+  };
+  if (i < n && (f[i] == '+' || f[i] == '-')) ++i;
+  std::size_t mantissa = digits();
+  if (i < n && f[i] == '.') {
+    ++i;
+    mantissa += digits();
+  }
+  if (mantissa == 0) return false;
+  if (i < n && (f[i] == 'e' || f[i] == 'E')) {
+    ++i;
+    if (i < n && (f[i] == '+' || f[i] == '-')) ++i;
+    if (digits() == 0) return false;
+  }
+  return i == n;
+}
+
 }  // namespace
+
+std::optional<Quat> unit_quaternion(double w, double x, double y, double z) {
+  // Scaled by the largest magnitude first, so neither 1e300 (whose square overflows) nor
+  // 1e-200 (whose square underflows to zero) loses the direction.
+  if (!std::isfinite(w) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return std::nullopt;
+  const double m = std::max({std::fabs(w), std::fabs(x), std::fabs(y), std::fabs(z)});
+  if (!(m > 0.0)) return std::nullopt;
+  Quat q(w / m, x / m, y / m, z / m);
+  q.normalize();
+  return q;
+}
 
 Trajectory::Trajectory(std::vector<TrajectorySample> samples) : samples_(std::move(samples)) {}
 
 std::optional<Trajectory> Trajectory::load_csv(const std::string& path, std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    if (error) *error = path + ": cannot open trajectory file";
+  std::string why;
+  const auto text = read_input_file(path, kMaxTrajectoryFileBytes, "a trajectory file (CSV)", &why);
+  if (!text) {
+    if (error) *error = path + ": " + why;
     return std::nullopt;
   }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parse_csv(buffer.str(), path, error);
+  return parse_csv(*text, path, error);
 }
 
 std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const std::string& name,
@@ -67,21 +110,23 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
       if (count >= 8) return fail(line_no, "too many fields (expected 8)");
       const std::string f = trim(field);
       char* end = nullptr;
-      v[count] = std::strtod(f.c_str(), &end);
-      if (f.empty() || end != f.c_str() + f.size() || !std::isfinite(v[count]))
+      v[count] = is_decimal_number(f) ? std::strtod(f.c_str(), &end) : 0.0;
+      if (end != f.c_str() + f.size() || !std::isfinite(v[count]))
         return fail(line_no, "field " + std::to_string(count + 1) + " is not a finite number (got '" +
-                                 f + "')");
+                                 f.substr(0, 40) + "', expected a decimal number such as 0.25 or -1.5e-3)");
       ++count;
     }
     if (count != 8)
       return fail(line_no, "expected 8 fields, got " + std::to_string(count));
+    if (samples.empty() && v[0] < 0.0)
+      return fail(line_no, "negative time (got " + format_time(v[0]) +
+                               ", expected the first sample at t_s >= 0)");
     if (!samples.empty() && !(v[0] > samples.back().t_s))
-      return fail(line_no, "time must increase (got " + std::to_string(v[0]) + " after " +
-                               std::to_string(samples.back().t_s) + ")");
-    Quat q(v[4], v[5], v[6], v[7]);
-    if (q.norm() < 1e-9) return fail(line_no, "zero quaternion (expected a rotation)");
-    q.normalize();
-    samples.push_back({v[0], Pose{Vec3(v[1], v[2], v[3]), q}});
+      return fail(line_no, "time must increase (got " + format_time(v[0]) + " after " +
+                               format_time(samples.back().t_s) + ")");
+    const std::optional<Quat> q = unit_quaternion(v[4], v[5], v[6], v[7]);
+    if (!q) return fail(line_no, "zero quaternion (got [0, 0, 0, 0], expected a rotation)");
+    samples.push_back({v[0], Pose{Vec3(v[1], v[2], v[3]), *q}});
   }
   if (!header_seen) return fail(line_no, std::string("missing header (expected '") + kHeader + "')");
   if (samples.empty()) return fail(line_no, "no samples (expected at least one)");

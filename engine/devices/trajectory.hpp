@@ -3,7 +3,8 @@
 //
 // CSV format (docs/trajectory-format.md): '#' comment lines, then a header line
 //   t_s,x_m,y_m,z_m,qw,qx,qy,qz
-// then one sample per line, times strictly increasing, quaternions normalised on load.
+// then one sample per line: decimal numbers only, the first time >= 0 and times strictly
+// increasing, quaternions of any finite non-zero scale normalised on load.
 #pragma once
 
 #include <optional>
@@ -41,6 +42,10 @@ class Trajectory {
  private:
   std::vector<TrajectorySample> samples_;
 };
+
+/// The rotation of [w, x, y, z] as a unit quaternion, for any finite, non-zero scale (a scaled
+/// quaternion means the same rotation); nullopt for zero or non-finite components.
+std::optional<Quat> unit_quaternion(double w, double x, double y, double z);
 
 /// Plays a trajectory as a device; reports `end` once the last sample's time has passed.
 class TrajectoryReplay final : public InputDevice {

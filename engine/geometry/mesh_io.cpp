@@ -14,6 +14,8 @@
 
 #include <tiny_obj_loader.h>
 
+#include "engine/core/input_file.hpp"
+
 namespace acdr {
 namespace {
 
@@ -274,18 +276,10 @@ std::optional<TriangleMesh> read_ascii_stl(std::string_view text, const std::str
 }
 
 std::optional<std::string> read_file_bytes(const std::string& path, std::string* error) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    set_error(error, path + ": cannot open the file (expected a readable mesh file)");
-    return std::nullopt;
-  }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) {
-    set_error(error, path + ": cannot read the file");
-    return std::nullopt;
-  }
-  return buffer.str();
+  std::string why;
+  auto bytes = read_input_file(path, kMaxMeshFileBytes, "a mesh file (.obj or .stl)", &why);
+  if (!bytes) set_error(error, path + ": " + why);
+  return bytes;
 }
 
 std::string extension_of(const std::string& path) {

@@ -22,7 +22,10 @@ std::string write_temp(const std::string& name, const std::string& text) {
 TEST(ValidateCommand, GoodFilePrintsOkAndReturnsZero) {
   std::ostringstream out;
   EXPECT_EQ(run_validate({module_path()}, out), 0);
-  EXPECT_EQ(out.str(), "OK " + module_path() + "\n");
+  // The verdict and what the scenario will cost to run.
+  EXPECT_EQ(out.str().rfind("OK " + module_path() + " (about ", 0), 0u) << out.str();
+  EXPECT_NE(out.str().find(" particles, "), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find(" frames, "), std::string::npos) << out.str();
 }
 
 TEST(ValidateCommand, BadFilePrintsEveryErrorAndReturnsNonZero) {

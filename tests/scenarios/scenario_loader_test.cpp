@@ -2,6 +2,9 @@
 // right line and JSON path, with what was found and what was expected.
 #include "scenarios/scenario_loader.hpp"
 
+#include <sys/stat.h>
+
+#include <chrono>
 #include <filesystem>
 #include <cmath>
 
@@ -14,6 +17,7 @@
 #include "engine/nucleus/nucleus.hpp"
 #include "engine/anatomy/vertebra_generator.hpp"
 #include "scenarios/content_hash.hpp"
+#include "scenarios/object_reader.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"
 
 namespace acdr {
@@ -776,6 +780,58 @@ TEST(ScenarioLoaderAnatomy, ShapedBlocksAreChecked) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(to_string(r.errors).find("the hole must fit inside the ellipse"), std::string::npos)
       << to_string(r.errors);
+}
+
+// Every number has a practical range: a denormal is never a value, and a step below a
+// tenth of a millisecond only costs time and memory.
+TEST(ScenarioLoaderRanges, RefusesDenormalsAndStepsBelowThePhysicalFloor) {
+  const std::string box = box_module_text();
+  const int line = test::line_of(box, "\"solver\"");
+  auto dt_error = [&](const std::string& value) {
+    const auto errors = errors_of(replace_once(box, "\"dt_ms\": 1,", "\"dt_ms\": " + value + ","));
+    EXPECT_EQ(errors.size(), 1u);
+    return errors.empty() ? std::string() : errors[0].to_string();
+  };
+  EXPECT_EQ(dt_error("1e-320"), "m.json:" + std::to_string(line) +
+                                    ": /world/solver/dt_ms: out of range (got 9.99988867e-321 ms, a denormal "
+                                    "number, expected 0 or a normal number: >= 0.1 ms and <= 10 ms)");
+  for (const char* tiny : {"0.001", "1e-6", "1e-9"}) {
+    EXPECT_EQ(dt_error(tiny), "m.json:" + std::to_string(line) + ": /world/solver/dt_ms: out of range (got " +
+                                  format_number(std::stod(tiny)) + " ms, expected >= 0.1 ms and <= 10 ms)");
+  }
+  EXPECT_TRUE(load_scenario_text(replace_once(box, "\"dt_ms\": 1,", "\"dt_ms\": 0.1,"), "m.json").ok());
+  // A denormal where zero is allowed (a viscosity of 0 is a physical value).
+  const auto errors = errors_of(replace_once(box, "\"viscosity_Pa_s\": 250", "\"viscosity_Pa_s\": 4e-320"));
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].message.find("a denormal number"), std::string::npos) << errors[0].message;
+  EXPECT_TRUE(load_scenario_text(replace_once(box, "\"viscosity_Pa_s\": 250", "\"viscosity_Pa_s\": 0"), "m.json").ok());
+}
+
+// A mesh path that leads to a device or a FIFO is refused at once, as the scenario file is.
+TEST(ScenarioLoaderFiles, RefusesMeshesThatAreDevicesOrFifos) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "acdr_scenario_special_meshes";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::create_symlink("/dev/zero", dir / "zero.stl");
+  fs::create_symlink("/dev/urandom", dir / "random.obj");
+  ASSERT_EQ(::mkfifo((dir / "pipe.stl").c_str(), 0600), 0);
+  fs::copy_file(test::source_path("tests/scenarios/data/bone_c5.stl"), dir / "bone_c5.stl");
+  const std::string complete = test::read_text(test::source_path("tests/scenarios/data/complete.json"));
+  for (const char* name : {"zero.stl", "random.obj", "pipe.stl"}) {
+    SCOPED_TRACE(name);
+    const std::string text = replace_once(complete, "\"c4\": \"bone_c4.obj\"", std::string("\"c4\": \"") + name + "\"");
+    const std::string path = (dir / "scenario.json").string();
+    std::ofstream(path, std::ios::binary) << text;
+    const auto t0 = std::chrono::steady_clock::now();
+    const LoadResult r = load_scenario_file(path);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+    ASSERT_FALSE(r.ok());
+    const std::string all = to_string(r.errors);
+    EXPECT_NE(all.find("/world/anatomy/meshes: " + (dir / name).string() + ": not a regular file (got a "),
+              std::string::npos) << all;
+  }
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -1,6 +1,13 @@
 // Trajectory CSV reading, playback and waypoint interpolation.
 #include "engine/devices/trajectory.hpp"
 
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
 #include <gtest/gtest.h>
 
 #include "engine/devices/waypoint_path.hpp"
@@ -41,6 +48,72 @@ TEST(Trajectory, ErrorsNameTheLine) {
   EXPECT_FALSE(Trajectory::parse_csv("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0\n", "d.csv",
                                      &error));
   EXPECT_NE(error.find("expected 8 fields"), std::string::npos) << error;
+}
+
+const char* kHeader = "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n";
+
+TEST(Trajectory, AcceptsOnlyDecimalNumbers) {
+  std::string error;
+  for (const char* field : {"0x1p-3", "inf", "-inf", "nan", "infinity", "1e", ".", "+", "1.5.2", "0x10"}) {
+    SCOPED_TRACE(field);
+    const std::string text = std::string(kHeader) + "0,0,0," + field + ",1,0,0,0\n";
+    EXPECT_FALSE(Trajectory::parse_csv(text, "h.csv", &error));
+    EXPECT_NE(error.find("h.csv:2: field 4 is not a finite number (got '" + std::string(field) + "'"),
+              std::string::npos) << error;
+  }
+  // Every decimal spelling a writer uses is fine.
+  auto t = Trajectory::parse_csv(std::string(kHeader) + "0,-1.5e-3,+2,.5,1.,0,0,0E0\n", "ok.csv", &error);
+  ASSERT_TRUE(t) << error;
+  EXPECT_DOUBLE_EQ(t->samples()[0].pose.position.x(), -1.5e-3);
+  EXPECT_DOUBLE_EQ(t->samples()[0].pose.position.z(), 0.5);
+  // A value beyond double range is not finite either.
+  EXPECT_FALSE(Trajectory::parse_csv(std::string(kHeader) + "0,1e400,0,0,1,0,0,0\n", "o.csv", &error));
+  EXPECT_NE(error.find("o.csv:2: field 2 is not a finite number"), std::string::npos) << error;
+}
+
+TEST(Trajectory, RefusesAFirstSampleAtNegativeTime) {
+  std::string error;
+  EXPECT_FALSE(Trajectory::parse_csv(std::string(kHeader) + "-0.5,0,0,0,1,0,0,0\n1,0,0,0,1,0,0,0\n",
+                                     "n.csv", &error));
+  EXPECT_EQ(error, "n.csv:2: negative time (got -0.5, expected the first sample at t_s >= 0)");
+}
+
+TEST(Trajectory, NormalisesQuaternionsOfAnyFiniteScale) {
+  // The same quarter turn about z at scales whose squares overflow and underflow.
+  const double c = std::sqrt(0.5);
+  for (double scale : {1.0, 1e300, 1e-200, 1e-310, 1e308}) {
+    SCOPED_TRACE(scale);
+    char line[200];
+    std::snprintf(line, sizeof line, "0,0,0,0,%.17g,0,0,%.17g\n", c * scale, c * scale);
+    std::string error;
+    auto t = Trajectory::parse_csv(std::string(kHeader) + line, "q.csv", &error);
+    ASSERT_TRUE(t) << error;
+    const Quat& q = t->samples()[0].pose.orientation;
+    EXPECT_NEAR(q.norm(), 1.0, 1e-15);
+    EXPECT_NEAR(q.w(), c, 1e-15);
+    EXPECT_NEAR(q.z(), c, 1e-15);
+  }
+  std::string error;
+  EXPECT_FALSE(Trajectory::parse_csv(std::string(kHeader) + "0,0,0,0,0,0,0,0\n", "z.csv", &error));
+  EXPECT_EQ(error, "z.csv:2: zero quaternion (got [0, 0, 0, 0], expected a rotation)");
+  EXPECT_FALSE(unit_quaternion(0, 0, 0, 0));
+  EXPECT_FALSE(unit_quaternion(1, std::numeric_limits<double>::infinity(), 0, 0));
+  EXPECT_FALSE(unit_quaternion(1, std::nan(""), 0, 0));
+}
+
+TEST(Trajectory, RefusesADeviceOrFifoInsteadOfAFile) {
+  const std::string dir = ::testing::TempDir() + "/acdr_trajectory_files";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::create_symlink("/dev/zero", dir + "/zero.csv");
+  std::filesystem::create_symlink("/dev/urandom", dir + "/random.csv");
+  ASSERT_EQ(::mkfifo((dir + "/pipe.csv").c_str(), 0600), 0);
+  for (const char* name : {"/zero.csv", "/random.csv", "/pipe.csv"}) {
+    std::string error;
+    EXPECT_FALSE(Trajectory::load_csv(dir + name, &error));
+    EXPECT_EQ(error.rfind(dir + name + ": not a regular file (got a ", 0), 0u) << error;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Trajectory, SaveLoadRoundTrip) {

@@ -4,9 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
+#include "engine/core/input_file.hpp"
 #include "engine/geometry/mesh_shapes.hpp"
 
 namespace acdr {
@@ -156,6 +161,34 @@ TEST(MeshIo, FilesRoundTripAndOpenMeshesAreRefused) {
   EXPECT_FALSE(load_mesh_file((dir / "mesh.ply").string(), LengthUnit::kMetre, &error));
   EXPECT_NE(error.find("expected .obj or .stl"), std::string::npos) << error;
   std::filesystem::remove_all(dir);
+}
+
+// A mesh path that leads to a device or a FIFO is refused at once (never read until memory runs
+// out, never waited on), and a file over the cap is refused from its size.
+TEST(MeshIo, RefusesDevicesFifosAndOversizedFiles) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "acdr_mesh_io_special";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::create_symlink("/dev/zero", dir / "zero.stl");
+  fs::create_symlink("/dev/urandom", dir / "random.obj");
+  ASSERT_EQ(::mkfifo((dir / "pipe.stl").c_str(), 0600), 0);
+  for (const char* name : {"zero.stl", "random.obj", "pipe.stl"}) {
+    const std::string path = (dir / name).string();
+    std::string error;
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_FALSE(load_mesh_file(path, LengthUnit::kMillimetre, &error));
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 1.0);
+    EXPECT_EQ(error.rfind(path + ": not a regular file (got a ", 0), 0u) << error;
+  }
+  const fs::path big = dir / "big.stl";
+  { std::ofstream touch(big); }
+  fs::resize_file(big, kMaxMeshFileBytes + 1);
+  std::string error;
+  EXPECT_FALSE(load_mesh_file(big.string(), LengthUnit::kMillimetre, &error));
+  EXPECT_NE(error.find("file too large (got 67108865 bytes, expected at most 67108864"), std::string::npos)
+      << error;
+  fs::remove_all(dir);
 }
 
 }  // namespace
