@@ -13,16 +13,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-std::string validate_bone_fem_config(const BoneFemConfig& c) {
-  std::string out = validate_tet_meshing_params(c.meshing);
-  out += validate_bone_materials(c.materials);
-  if (!(c.support_depth_m > 0.0))
-    out +=
-        "support_depth_m: got " + std::to_string(c.support_depth_m * 1e3) + " mm, expected > 0\n";
-  if (!(c.max_snap_m > 0.0))
-    out += "max_snap_m: got " + std::to_string(c.max_snap_m * 1e3) + " mm, expected > 0\n";
-  return out;
-}
 
 std::unique_ptr<BoneFem> BoneFem::build(const TriangleMesh& surface, const SegmentParams& params,
                                         VertebraLevel level, const BoneFemConfig& config,

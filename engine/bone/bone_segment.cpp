@@ -17,24 +17,6 @@ const char* bone_measure_name(BoneMeasure m) {
   return "?";
 }
 
-std::string validate_bone_model_config(const BoneModelConfig& c) {
-  std::string out = validate_bone_fem_config(c.fem);
-  auto positive = [&](const char* key, double value, double scale, const char* unit) {
-    if (!(value > 0.0) || !std::isfinite(value))
-      out += std::string(key) + ": got " + std::to_string(value / scale) + " " + unit +
-             ", expected > 0\n";
-  };
-  positive("sample_period_s", c.sample_period_s, 1.0, "s");
-  positive("nucleus_cell_m", c.nucleus_cell_m, 1e-3, "mm");
-  positive("endplate_strength_Pa", c.strengths.endplate_Pa, 1e6, "MPa");
-  positive("posterior_strength_Pa", c.strengths.posterior_Pa, 1e6, "MPa");
-  if (!(c.min_load_N >= 0.0))
-    out += "min_load_N: got " + std::to_string(c.min_load_N) + " N, expected >= 0\n";
-  if (!(c.strengths.warning_fraction > 0.0 && c.strengths.warning_fraction <= 1.0))
-    out += "warning_fraction: got " + std::to_string(c.strengths.warning_fraction) +
-           ", expected > 0 and <= 1\n";
-  return out;
-}
 
 std::vector<std::uint32_t> bone_measure_elements(const BoneFem& fem, BoneMeasure measure,
                                                  double reach_m) {

@@ -31,12 +31,6 @@ using Criteria = CGAL::Mesh_criteria_3<Triangulation>;
 
 constexpr double kMmPerM = 1e3;
 
-std::string mm(double metres) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g mm", metres * kMmPerM);
-  return text;
-}
-
 Surface to_cgal(const TriangleMesh& mesh) {
   Surface s;
   std::vector<Surface::Vertex_index> v;
@@ -64,20 +58,6 @@ std::string self_intersection_error(const Surface& s) {
 
 }  // namespace
 
-std::string validate_tet_meshing_params(const TetMeshingParams& p) {
-  std::string out;
-  if (!(p.size_m > 0.0)) out += "size_m: got " + mm(p.size_m) + ", expected > 0\n";
-  if (!(p.surface_distance_ratio > 0.0 && p.surface_distance_ratio <= 1.0))
-    out += "surface_distance_ratio: got " + std::to_string(p.surface_distance_ratio) +
-           ", expected 0 to 1\n";
-  if (!(p.facet_angle_deg > 0.0 && p.facet_angle_deg <= 30.0))
-    out += "facet_angle_deg: got " + std::to_string(p.facet_angle_deg) + ", expected 0 to 30\n";
-  if (!(p.radius_edge_ratio >= 2.0))
-    out += "radius_edge_ratio: got " + std::to_string(p.radius_edge_ratio) + ", expected >= 2\n";
-  if (!(p.sliver_bound_deg >= 0.0 && p.sliver_bound_deg < 30.0))
-    out += "sliver_bound_deg: got " + std::to_string(p.sliver_bound_deg) + ", expected 0 to 30\n";
-  return out;
-}
 
 TetMeshingResult mesh_closed_surface(const TriangleMesh& surface, const TetMeshingParams& params) {
   const auto start = std::chrono::steady_clock::now();
