@@ -366,7 +366,7 @@ void read_bone(ObjectReader& r, BoneModelConfig& b) {
   b.enabled = true;
   if (auto v = r.boolean("enabled", Need::kOptional)) b.enabled = *v;
   BoneFemConfig& f = b.fem;
-  if (auto x = r.quantity(length("element_size"), Need::kOptional, Range::closed(0.5 * kMm, 5 * kMm))) {
+  if (auto x = r.quantity(length("element_size"), Need::kOptional, Range::closed(1.0 * kMm, 5 * kMm))) {
     f.meshing.size_m = *x;
   }
   if (auto s = r.string("order", Need::kOptional, true, {"linear", "quadratic"},
