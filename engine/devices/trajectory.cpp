@@ -55,12 +55,14 @@ bool is_decimal_number(const std::string& f) {
 }  // namespace
 
 std::optional<Quat> unit_quaternion(double w, double x, double y, double z) {
-  // Scaled by the largest magnitude first, so neither 1e300 (whose square overflows) nor
-  // 1e-200 (whose square underflows to zero) loses the direction.
   if (!std::isfinite(w) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) return std::nullopt;
   const double m = std::max({std::fabs(w), std::fabs(x), std::fabs(y), std::fabs(z)});
   if (!(m > 0.0)) return std::nullopt;
-  Quat q(w / m, x / m, y / m, z / m);
+  // A device's quaternion is near unit length: normalised as it is, so recorded trajectories
+  // replay to the same bits. Only an extreme scale is divided out first, so neither 1e300
+  // (whose square overflows) nor 1e-200 (whose square underflows to zero) loses the direction.
+  const bool ordinary = m > 1e-100 && m < 1e100;
+  Quat q = ordinary ? Quat(w, x, y, z) : Quat(w / m, x / m, y / m, z / m);
   q.normalize();
   return q;
 }
