@@ -15,6 +15,17 @@ btVector3 to_bt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
 Vec3 from_bt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
 btQuaternion to_bt(const Quat& q) { return btQuaternion(q.x(), q.y(), q.z(), q.w()); }
 Quat from_bt(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+
+// The force a contact point's last impulses (normal and both friction directions) put on the
+// manifold's body A (`on_a`) or B over a step of dt, N. normalWorldOnB points from B to A; the
+// impulse pushes A along it.
+Vec3 contact_force_on(const btManifoldPoint& pt, bool on_a, double dt) {
+  Vec3 f = from_bt(pt.m_normalWorldOnB) * pt.getAppliedImpulse() +
+           from_bt(pt.m_lateralFrictionDir1) * pt.m_appliedImpulseLateral1 +
+           from_bt(pt.m_lateralFrictionDir2) * pt.m_appliedImpulseLateral2;
+  f /= dt;
+  return on_a ? f : Vec3(-f);
+}
 btTransform to_bt(const Pose& p) { return btTransform(to_bt(p.orientation), to_bt(p.position)); }
 
 }  // namespace
@@ -245,12 +256,7 @@ RigidContact RigidWorld::step(double dt, const Vec3& force_N, const Vec3& torque
     for (int p = 0; p < manifold->getNumContacts(); ++p) {
       const btManifoldPoint& pt = manifold->getContactPoint(p);
       if (pt.getDistance() > 1e-4) continue;
-      // normalWorldOnB points from B to A; the impulse pushes A along it.
-      Vec3 f = from_bt(pt.m_normalWorldOnB) * pt.getAppliedImpulse() +
-               from_bt(pt.m_lateralFrictionDir1) * pt.m_appliedImpulseLateral1 +
-               from_bt(pt.m_lateralFrictionDir2) * pt.m_appliedImpulseLateral2;
-      f /= dt;
-      if (is_b) f = -f;
+      const Vec3 f = contact_force_on(pt, is_a, dt);
       const Vec3 at = from_bt(is_a ? pt.getPositionWorldOnA() : pt.getPositionWorldOnB());
       contact.force_N += f;
       contact.torque_about_grip_Nm += (at - grip).cross(f);
@@ -278,11 +284,7 @@ void RigidWorld::gather_mesh_contacts(double dt, BoneLoadSample& out) const {
       const btManifoldPoint& pt = manifold->getContactPoint(p);
       if (pt.getDistance() > 1e-4) continue;
       // The same force step() sums on the instrument; the mesh feels its opposite.
-      Vec3 f = from_bt(pt.m_normalWorldOnB) * pt.getAppliedImpulse() +
-               from_bt(pt.m_lateralFrictionDir1) * pt.m_appliedImpulseLateral1 +
-               from_bt(pt.m_lateralFrictionDir2) * pt.m_appliedImpulseLateral2;
-      f /= dt;
-      if (is_b) f = -f;
+      const Vec3 f = contact_force_on(pt, is_a, dt);
       if (f.squaredNorm() == 0.0) continue;
       if (out.count >= BoneLoadSample::kCapacity) {
         ++out.dropped;
