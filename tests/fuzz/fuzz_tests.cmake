@@ -41,7 +41,7 @@ ExternalProject_Add(acdr_fuzz
 function(acdr_fuzz_test target runs seconds max_len)
   set(corpus ${ACDR_FUZZ_BUILD}/corpus/${target})
   add_test(NAME fuzz.${target}
-    COMMAND sh -c "rm -rf '${corpus}' && mkdir -p '${corpus}' && exec '${ACDR_FUZZ_BUILD}/${target}' -runs=${runs} -max_total_time=${seconds} -max_len=${max_len} -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 '${corpus}' ${ARGN}")
+    COMMAND sh -c "rm -rf '${corpus}' && mkdir -p '${corpus}' && exec '${ACDR_FUZZ_BUILD}/${target}' -runs=${runs} -max_total_time=${seconds} -max_len=${max_len} -seed=1 -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 '${corpus}' ${ARGN}")
   set_tests_properties(fuzz.${target} PROPERTIES TIMEOUT 60 LABELS fuzz)
 endfunction()
 
