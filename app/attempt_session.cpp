@@ -22,6 +22,9 @@
 namespace acdr {
 namespace {
 
+// How long a headless replay's checkpoint waits for a record another program holds (ms).
+constexpr int kHeadlessCheckpointWaitMs = 100;
+
 // Marks the session refused, with why. Returns false (a step that refuses returns it).
 bool refuse(SessionResult& result, std::string error, SessionEnd end = SessionEnd::kBadInput) {
   result.end = end;
@@ -290,6 +293,11 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
     if (view || udp) {
       view_failed = !run_live(options, scenario, *result.world, device.get(), view, result, notes, &error);
     } else {
+      // A headless replay checkpoints on its stepping thread: while another program holds the
+      // record, each checkpoint would stall the attempt for the connection's whole busy timeout.
+      // It waits briefly instead; a checkpoint not written goes with the next one, and the final
+      // store still waits --store-wait.
+      const ScopedBusyTimeout brief(*db, kHeadlessCheckpointWaitMs);
       CheckpointWriter checkpoints(*db, result.attempt_id, notes);
       result.run = run_attempt(scenario, *result.world, *device, {}, options.checkpoint_every_s,
                                checkpoint_sink(checkpoints));
