@@ -22,6 +22,9 @@
 namespace acdr {
 namespace {
 
+// How long a headless replay's checkpoint waits for a record another program holds (ms).
+constexpr int kHeadlessCheckpointWaitMs = 100;
+
 // Marks the session refused, with why. Returns false (a step that refuses returns it).
 bool refuse(SessionResult& result, std::string error, SessionEnd end = SessionEnd::kBadInput) {
   result.end = end;
@@ -152,11 +155,12 @@ bool wait_for_bridge(UdpDevice& udp, const SessionOptions& options, Database& db
 
 // Stores the run: finished in one transaction (with the recording, also written to
 // `record_path` when set), or aborted when the trainee abandoned it. Returns the error, or an
-// empty string.
+// empty string. A recording file that cannot be written does not stop the attempt being
+// stored: that error goes to `record_file_error`.
 std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& run,
                       const World& world, const std::string& record_path,
                       double patience_s, const XapiOptions& xapi, std::string* stored_as,
-                      std::string* unsaved_file) {
+                      std::string* unsaved_file, std::string* record_file_error) {
   if (run.end == AttemptEnd::kStopped) {
     *stored_as = "aborted";
     if (auto aborted = abort_attempt(db, attempt_id, "stopped before the end by the trainee");
@@ -177,7 +181,7 @@ std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& r
     std::ofstream file(record_path, std::ios::binary);
     file.write(reinterpret_cast<const char*>(recording.bytes.data()),
                static_cast<std::streamsize>(recording.bytes.size()));
-    if (!file) return record_path + ": cannot write the recording";
+    if (!file) *record_file_error = record_path + ": cannot write the recording";
   }
   outcome.recording = std::move(recording);
   const FinalRecord stored = finish_attempt_or_keep(db, attempt_id, std::move(outcome),
@@ -289,6 +293,11 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
     if (view || udp) {
       view_failed = !run_live(options, scenario, *result.world, device.get(), view, result, notes, &error);
     } else {
+      // A headless replay checkpoints on its stepping thread: while another program holds the
+      // record, each checkpoint would stall the attempt for the connection's whole busy timeout.
+      // It waits briefly instead; a checkpoint not written goes with the next one, and the final
+      // store still waits --store-wait.
+      const ScopedBusyTimeout brief(*db, kHeadlessCheckpointWaitMs);
       CheckpointWriter checkpoints(*db, result.attempt_id, notes);
       result.run = run_attempt(scenario, *result.world, *device, {}, options.checkpoint_every_s,
                                checkpoint_sink(checkpoints));
@@ -308,9 +317,11 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   }
 
   // The record again: stored before the score shows, so closing the score screen loses nothing.
+  std::string record_file_error;
   const std::string store_error =
       store_run(*db, result.attempt_id, result.run, world, options.record,
-                options.store_patience_s, xapi, &result.stored_as, &result.unsaved_file);
+                options.store_patience_s, xapi, &result.stored_as, &result.unsaved_file,
+                &record_file_error);
   const std::string kept =
       result.unsaved_file.empty()
           ? std::string()
@@ -326,6 +337,13 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
     // The attempt ran: its result is shown, and the exit says the record is not written.
     refuse(result, "the record of attempt " + std::to_string(result.attempt_id) +
                        " could not be written: " + store_error + kept,
+           SessionEnd::kRecordNotWritten);
+    return result;
+  }
+  if (!record_file_error.empty()) {
+    // The training record has the attempt and its recording; only the extra file is missing.
+    refuse(result, record_file_error + " (attempt " + std::to_string(result.attempt_id) +
+                       " is stored, " + result.stored_as + ", with its recording)",
            SessionEnd::kRecordNotWritten);
     return result;
   }

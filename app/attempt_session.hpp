@@ -71,7 +71,8 @@ enum class SessionEnd {
   kBadInput,          ///< scenario, input, record, bridge, window or store refused (`error`)
   kLocked,            ///< the module is locked for this trainee (`error` says why)
   /// The attempt ran to its end but its record could not be written (`error` says why); the
-  /// result waits in `unsaved_file` (when that could be written) for the next start.
+  /// result waits in `unsaved_file` (when that could be written) for the next start. Also
+  /// when only the `record` file could not be written: the attempt itself is stored.
   kRecordNotWritten,
 };
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <new>
 
 namespace acdr {
 namespace {
@@ -24,7 +25,7 @@ BoneStressWorker::BoneStressWorker(const Anatomy& anatomy, const BoneModelConfig
                                    std::string cache_dir)
     : anatomy_(anatomy), config_(config), cache_dir_(std::move(cache_dir)) {
   pending_.reserve(16);
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] { run_guarded(); });
 }
 
 BoneStressWorker::~BoneStressWorker() {
@@ -105,6 +106,16 @@ void BoneStressWorker::run() {
   stats_.mean_sample_ms = solved_samples > 0 ? solved_ms / solved_samples : 0.0;
   stats_.mean_sample_cpu_ms = solved_samples > 0 ? solved_cpu_ms / solved_samples : 0.0;
   stats_.mean_solve_cpu_ms = stats_.solves > 0 ? solved_cpu_ms / stats_.solves : 0.0;
+}
+
+void BoneStressWorker::run_guarded() {
+  // Out of memory while meshing, factorising or solving ends the bone model, not the program:
+  // the attempt goes on without its stress metrics, and finish() says why.
+  try {
+    run();
+  } catch (const std::bad_alloc&) {
+    error_ = "out of memory in the bone model (its mesh or factorisation); no bone stress for this attempt";
+  }
 }
 
 }  // namespace acdr

@@ -57,6 +57,7 @@ class BoneStressWorker {
 
  private:
   void run();
+  void run_guarded();  ///< run() on the worker thread, ending it if memory runs out
 
   const Anatomy& anatomy_;
   BoneModelConfig config_;

@@ -134,6 +134,8 @@ void LiveAttempt::fill(LiveView& view) const {
 bool LiveAttempt::tick() {
   if (stop_requested_.load(std::memory_order_acquire))
     stepper_.stop(static_cast<AttemptEnd>(stop_reason_.load(std::memory_order_relaxed)));
+  // The device loop ends only after this one, unless its step threw: then no pose will come.
+  if (device_loop_ && device_loop_->finished()) stepper_.stop(AttemptEnd::kStopped);
   const bool more = stepper_.step();
   // Each step's frame (a few hundred bytes) to the checkpoint staging buffer.
   if (checkpoints_) checkpoints_->stage(stepper_.record());
@@ -160,8 +162,13 @@ AttemptRun LiveAttempt::wait() {
   // Before the attempt is closed and stored: the writer writes what it was given and ends.
   // An attempt abandoned before its end keeps only what was checkpointed, so it gets the
   // rest too; a finished attempt is stored whole right after this.
-  if (checkpoints_) checkpoints_->finish(stepper_.end() == AttemptEnd::kStopped);
+  const bool failed = loop_.failed() || (device_loop_ && device_loop_->failed());
+  if (checkpoints_) checkpoints_->finish(failed || stepper_.end() == AttemptEnd::kStopped);
   waited_ = true;
+  // A loop whose step threw (out of memory) ended the attempt there: its exception goes on
+  // from here, after the checkpoints kept what was recorded.
+  loop_.rethrow_failure();
+  if (device_loop_) device_loop_->rethrow_failure();
   return stepper_.finish(loop_.stats().wall_s);
 }
 

@@ -3,9 +3,9 @@
 
 #include "app/background_priority.hpp"
 
-
 #include <algorithm>
 #include <chrono>
+#include <new>
 #include <utility>
 
 namespace acdr {
@@ -43,7 +43,7 @@ LiveAttemptCheckpoints::LiveAttemptCheckpoints(CheckpointSink sink, const WorldS
 LiveAttemptCheckpoints::~LiveAttemptCheckpoints() { finish(false); }
 
 void LiveAttemptCheckpoints::start() {
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] { run_guarded(); });
 }
 
 void LiveAttemptCheckpoints::stage(const AttemptRecording& record) {
@@ -143,6 +143,16 @@ LiveCheckpointStats LiveAttemptCheckpoints::stats() const {
   const std::int64_t writes = s.saved + s.failed;
   s.write_mean_ms = writes > 0 ? write_total_ms_ / static_cast<double>(writes) : 0.0;
   return s;
+}
+
+void LiveAttemptCheckpoints::run_guarded() {
+  // Out of memory on this thread ends the checkpoints, not the program: the attempt goes on
+  // and its whole recording is stored when it ends.
+  try {
+    run();
+  } catch (const std::bad_alloc&) {
+    stats_.writer_out_of_memory = true;
+  }
 }
 
 }  // namespace acdr

@@ -40,6 +40,7 @@ struct LiveCheckpointStats {
   double write_mean_ms = 0.0;      ///< writer thread: one sink call (encode, metrics, compress,
   double write_max_ms = 0.0;       ///< transaction), per checkpoint
   bool background_priority = false;  ///< the writer runs at SCHED_BATCH, nice 10 (Linux)
+  bool writer_out_of_memory = false;  ///< the writer ran out of memory and stopped early
 };
 
 class LiveAttemptCheckpoints {
@@ -86,6 +87,7 @@ class LiveAttemptCheckpoints {
   };
 
   void run();
+  void run_guarded();  ///< run() on the writer thread, ending it if memory runs out
 
   CheckpointSink sink_;
   // Physics thread only.

@@ -51,7 +51,7 @@ int run_dashboard(const DashboardOptions& options, std::ostream& out, std::ostre
   auto db = Database::open(path, OpenOptions{.create = false});
   if (!db) {
     err << db.error().message << "\n";
-    return 1;
+    return 2;  // missing, empty or another program's file: refused, as report and rescore do
   }
   // Finished attempts whose record could not be written are completed from their side files
   // (that marks nothing: it stores what their own program could not).

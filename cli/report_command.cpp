@@ -27,7 +27,7 @@ int run_report(const ReportOptions& options, std::ostream& out, std::ostream& er
   for (const std::string& line : notes) err << "note: " << line << '\n';
   if (!db) {
     err << "acdr report: " << db.error().message << '\n';
-    return 1;
+    return 2;  // missing, empty or another program's file: refused, as rescore and dashboard do
   }
   // A trainee or module the record does not know is a mistake (a typo, the wrong record), not
   // an empty report: say so, with what the record does hold.

@@ -37,7 +37,7 @@ int run_rescore(const RescoreOptions& options, std::ostream& out, std::ostream& 
   auto attempts = list_attempts(db.value(), filter, {});
   if (!attempts) {
     err << attempts.error().message << "\n";
-    return 2;
+    return 1;  // an accepted record that could not be read
   }
 
   std::map<std::string, std::shared_ptr<const ScenarioModel>> scenarios;  // by module id

@@ -107,4 +107,19 @@ class [[nodiscard]] Transaction {
 /// returned and opening it reports the problem.
 std::string default_database_path();
 
+/// Sets a connection's busy timeout for a scope and puts the previous one back at its end.
+class ScopedBusyTimeout {
+ public:
+  ScopedBusyTimeout(Database& db, int ms) : db_(db), previous_ms_(db.busy_timeout_ms()) {
+    db_.set_busy_timeout_ms(ms);
+  }
+  ~ScopedBusyTimeout() { db_.set_busy_timeout_ms(previous_ms_); }
+  ScopedBusyTimeout(const ScopedBusyTimeout&) = delete;
+  ScopedBusyTimeout& operator=(const ScopedBusyTimeout&) = delete;
+
+ private:
+  Database& db_;
+  int previous_ms_;
+};
+
 }  // namespace acdr

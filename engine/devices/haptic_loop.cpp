@@ -123,7 +123,14 @@ void HapticLoop::run() {
     previous_start = start;
     have_previous = true;
 
-    const bool more = step_();
+    // An exception must not leave the thread (that would terminate the program): the loop
+    // ends and its owner gets it from rethrow_failure().
+    bool more = false;
+    try {
+      more = step_();
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
 
     end = Clock::now();
     const auto work = end - start;

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -92,8 +93,16 @@ class HapticLoop {
   void request_stop() { stop_.store(true, std::memory_order_relaxed); }
   /// Waits for the loop's thread to end.
   void join();
-  /// True once the loop has ended (its step returned false, or a stop was honoured).
+  /// True once the loop has ended (its step returned false or threw, or a stop was honoured).
   bool finished() const { return finished_.load(std::memory_order_acquire); }
+  /// After join(): if the step threw (out of memory, say), the loop ended there and this
+  /// throws the same exception on the calling thread, so the owner handles it as if the step
+  /// had run there; otherwise it does nothing.
+  void rethrow_failure() const {
+    if (failure_) std::rethrow_exception(failure_);
+  }
+  /// After join(): whether the step threw.
+  bool failed() const { return static_cast<bool>(failure_); }
 
   /// Statistics so far: exact after join(); while running, as of the last publication (the
   /// loop publishes every ~100 ticks without waiting for readers).
@@ -110,6 +119,7 @@ class HapticLoop {
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> finished_{false};
+  std::exception_ptr failure_;  ///< what the step threw; written by the loop thread before finished_
 
   // Owned by the loop thread while it runs.
   DurationHistogram periods_;

@@ -95,6 +95,25 @@ TEST(AttemptSession, AHeadlessReplayIsStoredWithItsRecording) {
   EXPECT_EQ(bytes, a.recording->bytes);
 }
 
+// A recording file that cannot be written (here: its folder does not exist) loses nothing:
+// the attempt is stored completed with its recording, and the session says which file failed
+// with the "record not written" end.
+TEST(AttemptSession, ARecordingFileThatCannotBeWrittenStillStoresTheAttempt) {
+  test::TempDir dir;
+  SessionOptions o = replay_options(dir, test::kSceneData + "short_scoop.csv");
+  o.trainee = "t1";
+  o.record = dir.file("no-such-folder/attempt.rec");
+  std::ostringstream notes;
+  const SessionResult r = run_attempt_session(o, nullptr, notes);
+  EXPECT_EQ(r.end, SessionEnd::kRecordNotWritten);
+  EXPECT_NE(r.error.find(o.record), std::string::npos) << r.error;
+  EXPECT_EQ(r.stored_as, "completed");
+  const AttemptRecord a = stored(o.db, r.attempt_id);
+  EXPECT_EQ(a.status, AttemptStatus::kCompleted);
+  ASSERT_TRUE(a.recording);
+  EXPECT_EQ(a.metrics.values, r.run.metrics.values);
+}
+
 TEST(AttemptSession, AStoredAttemptIsSentWhenTheLrsConfigurationSaysSo) {
   if (std::string missing = test_support::test_lrs_missing(ACDR_SOURCE_DIR); !missing.empty()) {
     GTEST_SKIP() << missing;

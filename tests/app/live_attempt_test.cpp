@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <new>
 #include <thread>
 
 #include "engine/devices/trajectory.hpp"
@@ -135,6 +136,33 @@ TEST(LiveAttempt, ALiveDeviceGetsItsOwnLoopAndEndsThePhysicsWithIt) {
     EXPECT_LE(f.norm(), scenario->world.device.max_force_N);
   }
   EXPECT_EQ(hand.forces().back(), Vec3::Zero());  // released at the end
+}
+
+// A device read that runs out of memory on the physics thread ends the attempt there; the
+// exception reaches the thread that waits for the attempt (the session turns it into an
+// aborted attempt with a message), instead of terminating the program.
+class DeviceThatRunsOutOfMemory : public InputDevice {
+ public:
+  explicit DeviceThatRunsOutOfMemory(const Pose& start) : start_(start) {}
+  bool sample(double t_s, DeviceSample& out) override {
+    if (t_s > 0.05) throw std::bad_alloc();
+    out.pose = start_;
+    return true;
+  }
+
+ private:
+  Pose start_;
+};
+
+TEST(LiveAttempt, OutOfMemoryOnThePhysicsThreadReachesTheWaiter) {
+  const auto scenario = empty_box();
+  World world(scenario->world);
+  DeviceThatRunsOutOfMemory device(scenario->world.instrument_start);
+  LiveAttempt live(*scenario, world, device);
+  live.start();
+  EXPECT_THROW(live.wait(), std::bad_alloc);
+  EXPECT_TRUE(live.finished());
+  EXPECT_GT(world.step_count(), 0);
 }
 
 }  // namespace

@@ -123,7 +123,7 @@ TEST_F(DashboardCommandTest, ReportsUnknownSelectionsAndMissingRecords) {
   DashboardOptions missing;
   missing.db = dir_->file("typo.sqlite");
   missing.screenshot = dir_->file("y.png");
-  EXPECT_EQ(run_dashboard(missing, out, err), 1);
+  EXPECT_EQ(run_dashboard(missing, out, err), 2);
   EXPECT_FALSE(std::filesystem::exists(missing.db));
 }
 

@@ -28,7 +28,7 @@ TEST(ReportCommand, MissingDatabaseIsReportedNotCreated) {
   ReportOptions options;
   options.db_path = dir.file("typo.sqlite");
   std::ostringstream out, err;
-  EXPECT_EQ(run_report(options, out, err), 1);
+  EXPECT_EQ(run_report(options, out, err), 2);
   EXPECT_NE(err.str().find("typo.sqlite"), std::string::npos) << err.str();
   EXPECT_FALSE(std::filesystem::exists(options.db_path));
 }

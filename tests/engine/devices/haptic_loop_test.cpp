@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <new>
 #include <thread>
 
 namespace acdr {
@@ -96,6 +97,35 @@ TEST(HapticLoop, UnpacedLoopRunsBackToBack) {
   loop.join();
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
   EXPECT_GT(loop.stats().rate_hz, 1000.0);
+}
+
+// A step that throws (here: out of memory) must not take the program down with its thread:
+// the loop ends at that tick and hands the exception to its owner.
+TEST(HapticLoop, AStepThatThrowsEndsTheLoopAndItsOwnerGetsTheException) {
+  HapticLoopOptions options;
+  options.paced = false;
+  HapticLoop loop(options);
+  int ticks = 0;
+  loop.start([&]() -> bool {
+    if (++ticks == 10) throw std::bad_alloc();
+    return true;
+  });
+  loop.join();
+  EXPECT_TRUE(loop.finished());
+  EXPECT_TRUE(loop.failed());
+  EXPECT_EQ(ticks, 10);
+  EXPECT_THROW(loop.rethrow_failure(), std::bad_alloc);
+}
+
+TEST(HapticLoop, ALoopThatEndsNormallyHasNoFailure) {
+  HapticLoopOptions options;
+  options.paced = false;
+  HapticLoop loop(options);
+  int ticks = 0;
+  loop.start([&] { return ++ticks < 5; });
+  loop.join();
+  EXPECT_FALSE(loop.failed());
+  EXPECT_NO_THROW(loop.rethrow_failure());
 }
 
 }  // namespace
