@@ -208,6 +208,9 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--png", render.png, "Output PNG")->required();
   render_cmd->add_option("--width", render.width, "Width in pixels");
   render_cmd->add_option("--height", render.height, "Height in pixels");
+  render_cmd->add_option("--view", render.view,
+                         "Anatomy: surgeon (default), anterior or lateral (the whole segment)");
+  render_cmd->add_flag("--labels", render.labels, "Name the parts on the picture (anterior, lateral)");
   render_cmd->add_option("--stress-load", render.stress_loads,
                          "Draw the bone's stress under this load instead: x,y,z,fx,fy,fz (mm, N, "
                          "segment frame, force on the bone); repeat for several");

@@ -13,6 +13,7 @@
 #include "assessment/recording.hpp"
 #include "db/attempt_store.hpp"
 #include "scenarios/scenario_loader.hpp"
+#include "ui/anatomy_view.hpp"
 #include "ui/bone_stress_view.hpp"
 #include "ui/offscreen_render.hpp"
 #include "ui/scene_snapshot.hpp"
@@ -177,11 +178,34 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
   }
   if (!options.stress_loads.empty() || !options.recording.empty() || options.attempt != 0)
     return render_stress(options, *loaded.model, out, err);
+  AnatomyView view;
+  if (!parse_anatomy_view(options.view, &view)) {
+    err << "--view: got '" << options.view << "', expected surgeon, anterior or lateral\n";
+    return 2;
+  }
   const World world(loaded.model->world);
-  const RenderScene scene = snapshot_world(
-      world, static_cast<float>(options.width) / static_cast<float>(options.height));
+  const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
+  SceneStyle style;
+  if (view != AnatomyView::kSurgeon) style.draw_instrument = style.draw_walls = false;  // the anatomy alone
+  RenderScene scene = snapshot_world(world, aspect, style);
+  if (view != AnatomyView::kSurgeon) {
+    if (!world.anatomy()) {
+      err << options.scenario << ": --view " << options.view
+          << " needs an anatomical scene (world.anatomy)\n";
+      return 2;
+    }
+    scene.camera = anatomy_camera(*world.anatomy(), view, aspect);
+    scene.ground.visible = false;  // the table would stand as a wall across these views
+  }
   std::string error;
-  if (!render_to_png(scene, options.width, options.height, options.png, &error)) {
+  const bool written =
+      options.labels && view != AnatomyView::kSurgeon
+          ? render_labelled_png(scene, anatomy_labels(world, view),
+                                options.view == "anterior" ? "C4-C5 from the front (patient's left on the right)"
+                                                           : "C4-C5 from the patient's left (anterior on the left)",
+                                options.width, options.height, options.png, &error)
+          : render_to_png(scene, options.width, options.height, options.png, &error);
+  if (!written) {
     err << options.png << ": " << error << "\n";
     return 2;
   }

@@ -1,4 +1,5 @@
-// `acdr render SCENARIO --png FILE`: an offscreen preview of a scenario's scene at t = 0; with
+// `acdr render SCENARIO --png FILE [--view anterior|lateral] [--labels]`: an offscreen preview
+// of a scenario's scene at t = 0 (anatomy from the surgeon's view, the front or the side); with
 // a bone load (--stress-load, or a recorded attempt at a time), the stress picture of the
 // loaded vertebra instead (ui/bone_stress_view.hpp).
 #pragma once
@@ -25,6 +26,10 @@ struct RenderOptions {
   std::string db;
   double at_s = -1.0;  ///< < 0: the attempt's moment of peak bone load
   double stress_max_MPa = 0.0;  ///< top of the colour bar; 0: the peak, rounded up
+  /// Anatomical scenes: "surgeon" (default: the disc space from the approach), "anterior" or
+  /// "lateral" (the whole segment, ui/anatomy_view.hpp).
+  std::string view = "surgeon";
+  bool labels = false;  ///< name the parts on the picture (anterior and lateral views)
 };
 
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err);

@@ -199,6 +199,12 @@ void read_vertebra(ObjectReader& r, VertebraParams& v) {
   set("transverse_process_reach", v.transverse_process_reach_m);
   set("lamina_thickness", v.lamina_thickness_m);
   set("spinous_process_length", v.spinous_process_length_m);
+  auto set_from_zero = [&](const char* base, double& field, double max_mm) {
+    if (auto x = r.quantity(length(base), Need::kOptional, Range::closed(0.0, max_mm * kMm))) field = *x;
+  };
+  set_from_zero("superior_concavity", v.superior_concavity_m, 5.0);
+  set_from_zero("anterior_lip", v.anterior_lip_m, 5.0);
+  set_from_zero("lip_resection_width", v.lip_resection_width_m, 40.0);
   r.finish();
 }
 

@@ -121,6 +121,22 @@ void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
       case ZoneShape::kBox:
         mesh = make_oriented_box(z.half_extents_m.cast<float>(),
                                  to_affine(Pose{z.a_m, z.orientation}), rgba);
+        if (n.find("cord") != std::string::npos) {
+          // The cord itself inside the zone (the canal with its ligament and dura): an oval
+          // about 12 x 7 mm across at C4-C5, drawn only, along the box's long axis (y).
+          const Eigen::Vector3f h = z.half_extents_m.cast<float>();
+          const Eigen::Vector3f c = z.a_m.cast<float>();
+          RenderMesh cord = make_cylinder(c - Eigen::Vector3f(0, h.y(), 0), c + Eigen::Vector3f(0, h.y(), 0), 1.0f,
+                                          Eigen::Vector4f(style.cord.x(), style.cord.y(), style.cord.z(), 0.85f));
+          const float rx = std::min(6.0e-3f, 0.65f * h.x()), rz = std::min(3.6e-3f, 0.6f * h.z());
+          for (Eigen::Vector3f& v : cord.vertices) {
+            v.x() = c.x() + (v.x() - c.x()) * rx;
+            v.z() = c.z() + (v.z() - c.z()) * rz;
+          }
+          cord.normals.clear();  // scaled: let the renderer recompute them
+          cord.specular = 0.2f;
+          scene.meshes.push_back(std::move(cord));
+        }
         break;
       case ZoneShape::kSdfBand:
         continue;  // endplates: the bone itself shows them
@@ -145,8 +161,10 @@ RenderScene snapshot_state(const World& world, const WorldState& state, float as
   scene.ground.visible = config.ground.enabled;
   if (config.ground.enabled) scene.ground.height_m = static_cast<float>(config.ground.height_m);
 
-  for (const Collider& c : world.static_colliders()) add_collider(scene, c, style.wall, 0.3f);
-  for (const Collider& c : state.instrument) add_collider(scene, c, style.instrument, 0.7f);
+  if (style.draw_walls)
+    for (const Collider& c : world.static_colliders()) add_collider(scene, c, style.wall, 0.3f);
+  if (style.draw_instrument)
+    for (const Collider& c : state.instrument) add_collider(scene, c, style.instrument, 0.7f);
 
   if (!state.positions.empty()) {
     scene.particles.radius_m = static_cast<float>(0.5 * config.nucleus.spacing_m);

@@ -26,6 +26,9 @@ struct SceneStyle {
   /// A zone the instrument is within the warning distance of, and one it is inside.
   Eigen::Vector4f zone_warning{1.00f, 0.62f, 0.05f, 0.60f};
   Eigen::Vector4f zone_inside{1.00f, 0.05f, 0.05f, 0.80f};
+  /// Off for an atlas picture of the anatomy alone (no instrument, no tray or walls).
+  bool draw_instrument = true;
+  bool draw_walls = true;
 };
 
 /// The scene as it is now, framed by a default camera for an image of the given aspect.

@@ -3,6 +3,7 @@
 // (x left, y cranial, z anterior); the segment places C4 above and C5 below the disc space.
 #include "engine/anatomy/vertebra_generator.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -17,7 +18,7 @@ namespace {
 
 constexpr double kMm = 1e-3;
 // Bump whenever the shape code below changes: cached meshes are keyed by it.
-constexpr std::uint32_t kShapeVersion = 1;
+constexpr std::uint32_t kShapeVersion = 2;
 constexpr double kBlend = 1.0 * kMm;        // fillet radius where parts meet
 constexpr double kJointGap = 0.5 * kMm;     // uncovertebral joint: clearance around the uncinate
 
@@ -70,13 +71,13 @@ double uncinate(const VertebraParams& v, const Derived& d, double s, const Vec3&
 /// Lateral mass (articular pillar) on side s, cut by the facet joint planes above and below.
 /// The facets are inclined 45 degrees, the superior facet facing up and back.
 double lateral_mass(const Derived& d, double facet_gap, double s, const Vec3& q) {
-  const double width = 8.0 * kMm, depth = 10.0 * kMm;
+  const double width = 7.5 * kMm, depth = 8.5 * kMm;
   const double zc = d.zb - 4.0 * kMm - 0.5 * depth;
   const Vec3 c(s * (d.cw2 + 0.3 * kMm + 0.5 * width), 0.0, zc);
   const double y_top = 0.5 * d.H + 0.5 * d.disc_above;
   const double y_bot = -0.5 * d.H - 0.5 * d.disc_below;
   const Vec3 half(0.5 * width, 0.5 * (y_top - y_bot) + 0.5 * depth, 0.5 * depth);
-  double m = sdf::box(q, Vec3(c.x(), 0.5 * (y_top + y_bot), zc), half, 1.5 * kMm);
+  double m = sdf::box(q, Vec3(c.x(), 0.5 * (y_top + y_bot), zc), half, 3.5 * kMm);
   const Vec3 n = Vec3(0.0, 1.0, -1.0).normalized();
   m = sdf::intersect(m, sdf::half_space(q, Vec3(0, y_top, zc), n) + 0.5 * facet_gap);
   m = sdf::intersect(m, -sdf::half_space(q, Vec3(0, y_bot, zc), n) + 0.5 * facet_gap);
@@ -124,31 +125,79 @@ double pedicle(const VertebraParams& v, const Derived& d, double s, const Vec3& 
                            sdf::capsule(q, a - dy, b - dy, 0.5 * pw), kBlend);
 }
 
-/// Transverse process on side s (around the foramen, hole cut later), with its tubercles.
+/// Transverse process on side s: an anterior root (the costal element, from the side of the
+/// body) and a posterior root (from the pedicle) that meet lateral to the foramen
+/// transversarium in the costotransverse bar, each ending in its tubercle; the bar lies lower
+/// than the roots, so their upper faces make the gutter the spinal nerve runs out in. The
+/// foramen is cut from the ring afterwards (vertebra_local).
 double transverse_process(const VertebraParams& v, const Derived& d, double s, const Vec3& q) {
-  const double x0 = d.W2 - 1.5 * kMm, x1 = d.x_ft + d.r_ft + v.transverse_process_reach_m;
-  const double z0 = d.z_ft - d.r_ft - 2.0 * kMm, z1 = d.z_ft + d.r_ft + 1.8 * kMm;
-  const double yt = 0.5 * d.H - 4.0 * kMm;
-  const Vec3 c(s * 0.5 * (x0 + x1), yt, 0.5 * (z0 + z1));
-  double t = sdf::box(q, c, Vec3(0.5 * (x1 - x0), 2.3 * kMm, 0.5 * (z1 - z0)), 1.0 * kMm);
-  // Anterior and posterior tubercles at the lateral end.
-  for (double dz : {d.r_ft + 0.6 * kMm, -(d.r_ft + 0.6 * kMm)}) {
-    t = sdf::smooth_union(t, sdf::sphere(q, Vec3(s * (x1 - 1.2 * kMm), yt - 0.8 * kMm, d.z_ft + dz), 2.4 * kMm), kBlend);
-  }
+  const double r = 1.4 * kMm;                    // half the roots' thickness
+  const double yt = 0.5 * d.H - 4.0 * kMm;        // level of the roots
+  const double x_out = d.x_ft + d.r_ft + v.transverse_process_reach_m;
+  const double za = d.z_ft + d.r_ft + 0.9 * kMm;  // anterior root, in front of the foramen
+  const double zp = d.z_ft - d.r_ft - 0.9 * kMm;  // posterior root, behind it
+  const double x_bar = d.x_ft + d.r_ft + 1.1 * kMm;
+  // Flattened bars: two capsules one above the other.
+  auto bar = [&](const Vec3& a, const Vec3& b, double rr) {
+    const Vec3 dy(0, 0.7 * kMm, 0);
+    return sdf::smooth_union(sdf::capsule(q, a + dy, b + dy, rr), sdf::capsule(q, a - dy, b - dy, rr), kBlend);
+  };
+  double t = bar(Vec3(s * (d.W2 - 1.5 * kMm), yt, za - 0.5 * kMm),
+                 Vec3(s * (x_out - 2.0 * kMm), yt - 0.8 * kMm, za + 0.3 * kMm), r);
+  t = sdf::smooth_union(t, bar(Vec3(s * (d.cw2 + 0.5 * kMm), yt, zp),
+                               Vec3(s * (x_out - 1.8 * kMm), yt - 0.6 * kMm, zp - 0.3 * kMm), r), kBlend);
+  t = sdf::smooth_union(t, bar(Vec3(s * x_bar, yt - 1.2 * kMm, za), Vec3(s * x_bar, yt - 1.2 * kMm, zp), 1.1 * kMm), kBlend);
+  // Anterior tubercle (the larger, lower one) and posterior tubercle.
+  t = sdf::smooth_union(t, sdf::sphere(q, Vec3(s * (x_out - 2.0 * kMm), yt - 1.8 * kMm, za + 0.6 * kMm), 2.0 * kMm), kBlend);
+  t = sdf::smooth_union(t, sdf::sphere(q, Vec3(s * (x_out - 1.8 * kMm), yt - 1.0 * kMm, zp - 0.5 * kMm), 1.8 * kMm), kBlend);
   return t;
 }
 
-double body(const Derived& d, const Vec3& q) {
-  const double corner = std::min({3.0 * kMm, 0.9 * d.W2, 0.45 * d.D});
-  const double d2 = sdf::rounded_rect(q.x(), q.z(), d.W2, 0.5 * d.D, corner);
-  return sdf::extrude(d2, q.y(), 0.5 * d.H, 0.8 * kMm);
+/// 0 at x <= a, 1 at x >= b, smooth between (a < b).
+double smoothstep(double a, double b, double x) {
+  const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+
+/// The body: an oval cross-section (rounded in front, flatter behind), its superior endplate a
+/// saddle that rises from the middle toward the uncinate processes, its inferior endplate
+/// convex from side to side (it sits in the saddle below) with the anterior lip hanging down
+/// in front of the disc.
+double body(const VertebraParams& v, const Derived& d, const Vec3& q) {
+  const double a = d.W2, b = 0.5 * d.D;
+  // Superellipse: exponent 2.4 in front (an oval, rounded anterior face), 6 behind (the
+  // posterior wall nearly flat, its corners rounded). ||.||_n <= ||.||_2 for n >= 2, so this
+  // stays a distance bound.
+  const double n = q.z() > 0.0 ? 2.4 : 6.0;
+  const double r = std::pow(std::pow(std::abs(q.x()) / a, n) + std::pow(std::abs(q.z()) / b, n), 1.0 / n);
+  const double d2 = (r - 1.0) * std::min(a, b);
+  // Transverse saddle of both endplates: the surfaces rise laterally by the concavity.
+  const double u = std::min(q.x() * q.x() / (d.e * d.e), 1.0);
+  const double rise = v.superior_concavity_m * u;
+  const double top = 0.5 * d.H + rise;
+  double bottom = -0.5 * d.H + rise;
+  // Anterior lip of the inferior endplate: the front rim reaches down, most in the middle,
+  // fading toward the sides; resected over the middle when asked.
+  const double wl = 0.9 * a, xl = q.x() * q.x() / (wl * wl);
+  // Along the front rim: from 3.5 mm inside the oval outline to 1 mm inside it, front half only.
+  double lip = q.z() > 0.0 ? v.anterior_lip_m * std::max(0.0, 1.0 - xl * xl) *
+                                 smoothstep(-3.5 * kMm, -1.0 * kMm, d2)
+                           : 0.0;
+  if (v.lip_resection_width_m > 0.0) {
+    const double w = 0.5 * v.lip_resection_width_m;
+    lip *= smoothstep(w, w + 1.0 * kMm, std::abs(q.x()));
+  }
+  bottom -= lip;
+  const double mid = 0.5 * (top + bottom), half = 0.5 * (top - bottom);
+  // The sloping faces steepen the function by up to ~1.5: scale it back to a distance bound.
+  return sdf::extrude(d2, q.y() - mid, half, 0.8 * kMm) / 1.6;
 }
 
 /// The whole vertebra in its local frame. `below` is the vertebra under it (for the bevel that
 /// receives the lower neighbour's uncinate processes), with the disc height between them.
 double vertebra_local(const VertebraParams& v, const Derived& d, const VertebraParams& below,
                       const Derived& db, double facet_gap, const Vec3& q) {
-  double f = body(d, q);
+  double f = body(v, d, q);
   for (double s : {1.0, -1.0}) {
     f = sdf::smooth_union(f, uncinate(v, d, s, q), 0.8 * kMm);
     f = sdf::smooth_union(f, pedicle(v, d, s, q), kBlend);
@@ -223,6 +272,48 @@ SegmentLandmarks segment_landmarks(const SegmentParams& p) {
         Vec3(s * (d5.e + 0.35 * d5.tu), -0.5 * h + p.c5.uncinate_height_m, d5.zb + 0.5 * kMm);
   }
   return l;
+}
+
+std::vector<PartPoint> segment_part_points(const SegmentParams& p, double side) {
+  const double s = side < 0.0 ? -1.0 : 1.0;
+  std::vector<PartPoint> parts;
+  for (int b = 0; b < 2; ++b) {
+    const VertebraLevel level = b == 0 ? VertebraLevel::kC4 : VertebraLevel::kC5;
+    const VertebraParams& v = b == 0 ? p.c4 : p.c5;
+    const Derived d = derive(v, p.disc_height_m, p.disc_height_m);
+    const Vec3 c = vertebra_center(p, level);
+    const std::string n = vertebra_level_name(level);
+    auto add = [&](const std::string& name, const Vec3& local) { parts.push_back({n + " " + name, c + local, b}); };
+    add("vertebral body", Vec3(0.0, 0.0, d.zf - 1.0 * kMm));
+    add("uncinate process", Vec3(s * (d.e + 0.5 * d.tu), 0.5 * d.H + 0.45 * v.uncinate_height_m,
+                                 d.zb + 0.3 * v.uncinate_depth_fraction * d.D));
+    add("superior endplate (saddle)", Vec3(s * 0.55 * d.e, 0.5 * d.H + 0.3 * v.superior_concavity_m - 0.3 * kMm, 0.0));
+    const double x_lip = std::max(0.25 * d.W2, 0.5 * v.lip_resection_width_m + 1.0 * kMm);
+    // The front of the oval at that x (exponent 2.4, body()), 1.2 mm behind it.
+    const double z_rim = 0.5 * d.D * std::pow(1.0 - std::pow(x_lip / d.W2, 2.4), 1.0 / 2.4) - 1.2 * kMm;
+    add("anterior lip", Vec3(s * x_lip, -0.5 * d.H - 0.15 * v.anterior_lip_m, z_rim));
+    add("pedicle", Vec3(s * (d.cw2 + 0.5 * v.pedicle_width_m), 0.5 * d.H - 0.5 * v.pedicle_height_m - 1.0 * kMm,
+                        d.zb - 2.0 * kMm));
+    const double yt = 0.5 * d.H - 4.0 * kMm;
+    const double x_out = d.x_ft + d.r_ft + v.transverse_process_reach_m;
+    add("anterior tubercle", Vec3(s * (x_out - 2.0 * kMm), yt - 1.8 * kMm, d.z_ft + d.r_ft + 1.5 * kMm));
+    add("posterior tubercle", Vec3(s * (x_out - 1.8 * kMm), yt - 1.0 * kMm, d.z_ft - d.r_ft - 1.4 * kMm));
+    add("foramen transversarium", Vec3(s * d.x_ft, yt, d.z_ft));
+    const double zc_mass = d.zb - 9.0 * kMm;
+    add("lateral mass", Vec3(s * (d.cw2 + 4.3 * kMm), 0.0, zc_mass));
+    const Vec3 la(s * (d.cw2 + 1.5 * kMm), 0.0, d.zb - 10.5 * kMm);
+    const Vec3 lb(0.0, 0.0, d.zb - v.canal_sagittal_m - 0.5 * v.lamina_thickness_m);
+    add("lamina", 0.5 * (la + lb));
+    const double z0 = d.zb - v.canal_sagittal_m - 0.5 * v.lamina_thickness_m;
+    const double z1 = z0 - 0.5 * v.lamina_thickness_m - v.spinous_process_length_m;
+    add("spinous process (bifid)", Vec3(s * 2.3 * kMm, -3.5 * kMm, z1 + 0.6 * kMm));
+  }
+  const SegmentLandmarks l = segment_landmarks(p);
+  const Derived d5 = derive(p.c5, p.disc_height_m, p.disc_height_m);
+  // The facet joint: between C4's inferior and C5's superior articular facet, at disc level.
+  parts.push_back({"facet joint", Vec3(s * (d5.cw2 + 4.3 * kMm), 0.0, d5.zb - 9.0 * kMm + 0.5 * kMm), -1});
+  parts.push_back({"spinal canal", Vec3(0.0, 0.0, 0.5 * (l.body_back_z_m + l.canal_back_z_m)), -1});
+  return parts;
 }
 
 namespace {
@@ -327,6 +418,9 @@ std::string validate_segment_params(const SegmentParams& p) {
     check(v.foramen_anterior_offset_m >= 0.0 && v.foramen_anterior_offset_m <= v.body_depth_m, n + "foramen_anterior_offset", v.foramen_anterior_offset_m, "0 to the body depth");
     check(v.transverse_process_reach_m >= 1e-3 && v.transverse_process_reach_m <= 20e-3, n + "transverse_process_reach", v.transverse_process_reach_m, "1 to 20 mm");
     check(v.lamina_thickness_m >= 1e-3 && v.lamina_thickness_m <= 8e-3, n + "lamina_thickness", v.lamina_thickness_m, "1 to 8 mm");
+    check(v.superior_concavity_m >= 0.0 && v.superior_concavity_m <= 0.5 * v.uncinate_height_m, n + "superior_concavity", v.superior_concavity_m, "0 to half the uncinate height");
+    check(v.anterior_lip_m >= 0.0 && v.anterior_lip_m <= 0.5 * p.disc_height_m, n + "anterior_lip", v.anterior_lip_m, "0 to half the disc height");
+    check(v.lip_resection_width_m >= 0.0 && v.lip_resection_width_m <= 2.0 * (0.5 * v.endplate_width_m + v.uncinate_thickness_m), n + "lip_resection_width", v.lip_resection_width_m, "0 to the body width");
     check(v.spinous_process_length_m >= 2e-3 && v.spinous_process_length_m <= 40e-3, n + "spinous_process_length", v.spinous_process_length_m, "2 to 40 mm");
   }
   check(p.disc_height_m >= 2e-3 && p.disc_height_m <= 15e-3, "disc_height", p.disc_height_m, "2 to 15 mm");

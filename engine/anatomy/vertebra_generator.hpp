@@ -15,6 +15,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "engine/geometry/triangle_mesh.hpp"
 
@@ -57,6 +58,18 @@ struct VertebraParams {
   double lamina_thickness_m = 2.5e-3;
   /// Spinous process length behind the laminae. Default 11 mm.
   double spinous_process_length_m = 11.0e-3;
+  /// How far the superior endplate rises from its middle to the base of the uncinate processes
+  /// (the transverse concavity of the saddle). Superior cervical endplate concavity depth
+  /// 0.9-1.2 mm, C3-C7 CT of 97 adults (Chen et al., Eur Spine J 2013;22(7):1570-5, mid-sagittal);
+  /// default 1.0 mm.
+  double superior_concavity_m = 1.0e-3;
+  /// How far the anterior lip of the inferior endplate hangs below the endplate. Inferior
+  /// endplates are the more concave, 2.1-2.7 mm (same source), the anterior lip making much of
+  /// it; default 1.5 mm.
+  double anterior_lip_m = 1.5e-3;
+  /// Width of the anterior lip taken off over the middle, as the surgeon does with a rongeur to
+  /// open the view into the disc space before the discectomy. Default 0: an intact lip.
+  double lip_resection_width_m = 0.0;
 };
 
 /// The C4-C5 motion segment: two vertebrae and the disc space between them.
@@ -95,6 +108,21 @@ struct SegmentLandmarks {
 };
 
 SegmentLandmarks segment_landmarks(const SegmentParams& params);
+
+/// A named part of the segment and a point on it (segment frame, m): where a picture puts its
+/// label. `bone` is 0 for C4, 1 for C5, -1 for soft tissue (disc, vessels, nerves).
+struct PartPoint {
+  std::string name;
+  Vec3 point_m = Vec3::Zero();
+  int bone = -1;
+};
+
+/// The parts a surgeon names, each with a point just inside it: C4 and C5 bodies, the superior
+/// endplate's saddle, the uncinate processes, the anterior lip, pedicles, transverse processes
+/// with their anterior and posterior tubercles, the foramina transversaria, lateral masses with
+/// their facet joint, laminae, the bifid spinous process, the spinal canal. Paired parts are
+/// given on one side: `side` -1 the patient's right (-x), +1 the left (+x).
+std::vector<PartPoint> segment_part_points(const SegmentParams& params, double side = -1.0);
 
 /// Centre of a vertebra's body in the segment frame: y = +-(disc + height) / 2.
 Vec3 vertebra_center(const SegmentParams& params, VertebraLevel level);

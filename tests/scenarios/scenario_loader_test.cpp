@@ -663,7 +663,7 @@ TEST(ScenarioLoaderAnatomy, BundledModulesLoadWithAnatomy) {
 // The cartilage endplates (docs/anatomy.md, "Disc space") are one lattice layer against each
 // bony endplate, on the nucleus's own lattice: no particle is doubled or crowded at the seams,
 // every cartilage particle lies beyond every nucleus particle along the spine, and the nucleus
-// keeps the six layers between them.
+// keeps the four layers between them; the disc reaches the rims.
 TEST(ScenarioLoaderAnatomy, CartilageEndplatesAreTheLayersAgainstTheBone) {
   for (const char* m : {"02_c4c5_healthy.json", "03_c4c5_degenerated.json", "04_full_discectomy.json"}) {
     const LoadResult r = load_scenario_file(test::source_path(std::string("scenarios/modules/") + m));
@@ -702,9 +702,22 @@ TEST(ScenarioLoaderAnatomy, CartilageEndplatesAreTheLayersAgainstTheBone) {
       EXPECT_TRUE(x[i].y() < nucleus_lo - 0.99 * h || x[i].y() > nucleus_hi + 0.99 * h) << m;
       EXPECT_LT(std::abs(x[i].y()), 0.5 * w.anatomy.segment.disc_height_m) << m;
     }
-    EXPECT_EQ(nucleus_layers.size(), 6u) << m;
-    // Two layers of the nucleus's outline: a third as many as the six nucleus layers.
-    EXPECT_EQ(3 * cartilage, nuclei) << m;
+    EXPECT_EQ(nucleus_layers.size(), 4u) << m;
+    // Two layers of the nucleus's outline: half as many as the four nucleus layers.
+    EXPECT_EQ(2 * cartilage, nuclei) << m;
+    // The disc reaches the vertebral rims (16.1 x 16.1 mm endplates): annulus particles within
+    // a lattice spacing or so of them at the sides and at the back (the front is the window).
+    double reach_x = 0.0, back = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      reach_x = std::max(reach_x, std::abs(x[i].x()));
+      back = std::min(back, x[i].z());
+    }
+    const double rim = 0.5 * w.anatomy.segment.c5.endplate_width_m;
+    EXPECT_GT(reach_x, rim - 1.51 * h) << m;
+    EXPECT_LT(back, -rim + 1.51 * h) << m;
+    // ... and the nucleus takes 0.40 of the disc's area (docs/anatomy.md, "Disc space").
+    const double nucleus_area = static_cast<double>(nuclei) / nucleus_layers.size() * h * h;
+    EXPECT_NEAR(nucleus_area / (3.14159265 * 8e-3 * 8e-3), 0.40, 0.03) << m;
   }
 }
 
@@ -749,8 +762,8 @@ TEST(ScenarioLoaderAnatomy, BrokenMeshFileIsReportedWithItsPlace) {
     out << "v 0 0 0\nv 1 0 0\nv 0 nope 0\nf 1 2 3\n";
   }
   const std::string text = replace_once(
-      healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9 },)",
-      R"("morphometry": { "disc_height_mm": 5.9 }, "meshes": { "c4": "bone_broken.obj", "c5": "bone_c5.stl", "units": "mm" },)");
+      healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9, "c4": { "lip_resection_width_mm": 10 } },)",
+      R"("morphometry": { "disc_height_mm": 5.9, "c4": { "lip_resection_width_mm": 10 } }, "meshes": { "c4": "bone_broken.obj", "c5": "bone_c5.stl", "units": "mm" },)");
   const LoadResult r = load_scenario_text(text, dir + "m.json");
   std::remove(bad.c_str());
   ASSERT_FALSE(r.ok());
@@ -761,7 +774,7 @@ TEST(ScenarioLoaderAnatomy, BrokenMeshFileIsReportedWithItsPlace) {
 }
 
 TEST(ScenarioLoaderAnatomy, InconsistentMorphometryAndZones) {
-  std::string text = replace_once(healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9 },)",
+  std::string text = replace_once(healthy_module_text(), R"("morphometry": { "disc_height_mm": 5.9, "c4": { "lip_resection_width_mm": 10 } },)",
                                   R"("morphometry": { "disc_height_mm": 5.9, "c5": { "uncinate_to_foramen_mm": 1.0 } },
       "zones": { "extra": [ { "name": "x", "shape": "capsule", "a_mm": [0, 0, 0], "radius_mm": 1,
                               "warning_mm": 1, "force_limit_N": 1, "never_event": true } ] },)");
@@ -774,8 +787,8 @@ TEST(ScenarioLoaderAnatomy, InconsistentMorphometryAndZones) {
 }
 
 TEST(ScenarioLoaderAnatomy, ShapedBlocksAreChecked) {
-  const std::string text = replace_once(healthy_module_text(), R"("hole_semi_axes_mm": [3.5, 3.0],)",
-                                        R"("hole_semi_axes_mm": [6.5, 3.0],)");
+  const std::string text = replace_once(healthy_module_text(), R"("hole_semi_axes_mm": [5.47, 4.68],)",
+                                        R"("hole_semi_axes_mm": [8.5, 4.68],)");
   const LoadResult r = load_scenario_text(text, "m.json");
   ASSERT_FALSE(r.ok());
   EXPECT_NE(to_string(r.errors).find("the hole must fit inside the ellipse"), std::string::npos)

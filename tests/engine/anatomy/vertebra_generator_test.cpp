@@ -41,23 +41,84 @@ TEST(VertebraGenerator, BothVertebraeAreClosedSolids) {
 }
 
 TEST(VertebraGenerator, DiscSpaceIsEmptyBetweenBonyEndplates) {
-  const SegmentParams p;
+  // With C4's anterior lip taken off over the middle, as the modules have it.
+  SegmentParams p;
+  p.c4.lip_resection_width_m = 10e-3;
   const SegmentLandmarks l = segment_landmarks(p);
   EXPECT_DOUBLE_EQ(l.c4_lower_endplate_y_m - l.c5_upper_endplate_y_m, p.disc_height_m);
   const double e = l.endplate_half_width_m;
   for (double x : {-e + 1.5 * kMm, 0.0, e - 1.5 * kMm}) {
+    // The saddle: both endplates rise from the middle toward the uncinate processes.
+    const double rise = p.c5.superior_concavity_m * x * x / (e * e);
     for (double z : {l.body_back_z_m + 1.5 * kMm, 0.0, l.body_front_z_m - 1.5 * kMm}) {
+      if (std::abs(x) > 4.0 * kMm && z > 0.0) continue;  // the lip beside the resection
       // Inside the disc space: no bone.
-      for (double y : {-0.4, 0.0, 0.4}) EXPECT_GT(bone(p, Vec3(x, y * p.disc_height_m, z)), 0.0);
+      for (double y : {-0.4, 0.0, 0.4}) EXPECT_GT(bone(p, Vec3(x, y * p.disc_height_m + rise, z)), 0.0);
       // Just past each endplate: bone of C4 above, C5 below.
-      EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC4, Vec3(x, l.c4_lower_endplate_y_m + 0.5 * kMm, z)), 0.0);
-      EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC5, Vec3(x, l.c5_upper_endplate_y_m - 0.5 * kMm, z)), 0.0);
+      EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC4, Vec3(x, l.c4_lower_endplate_y_m + rise + 0.5 * kMm, z)), 0.0);
+      EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC5, Vec3(x, l.c5_upper_endplate_y_m + rise - 0.5 * kMm, z)), 0.0);
     }
   }
+  // The superior endplate is a saddle: C5's surface stands higher toward the uncinate
+  // processes than in the middle, by the concavity.
+  auto c5_surface_y = [&](double x) {
+    double y = l.c5_upper_endplate_y_m - 2 * kMm;
+    while (vertebra_implicit(p, VertebraLevel::kC5, Vec3(x, y, 0.0)) < 0.0) y += 0.01 * kMm;
+    return y;
+  };
+  EXPECT_NEAR(c5_surface_y(0.0), l.c5_upper_endplate_y_m, 0.05 * kMm);
+  EXPECT_NEAR(c5_surface_y(0.75 * e) - c5_surface_y(0.0), 0.5625 * p.c5.superior_concavity_m, 0.1 * kMm);
   // The uncinate processes of C5 wall the disc space laterally at its back.
   const double z_unc = l.body_back_z_m + 2 * kMm;
   EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC5, Vec3(e + 0.8 * kMm, 0.0, z_unc)), 0.0);
   EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC5, Vec3(-e - 0.8 * kMm, 0.0, z_unc)), 0.0);
+}
+
+TEST(VertebraGenerator, AnteriorLipHangsInFrontOfTheDiscUnlessResected) {
+  SegmentParams p;
+  const SegmentLandmarks l = segment_landmarks(p);
+  // Intact: C4's front rim reaches below its endplate, in front of the disc.
+  const Vec3 below_rim(0.0, l.c4_lower_endplate_y_m - 0.8 * p.c4.anterior_lip_m, l.body_front_z_m - 0.8 * kMm);
+  EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC4, below_rim), 0.0);
+  // ... not behind the rim, where the disc is.
+  EXPECT_GT(vertebra_implicit(p, VertebraLevel::kC4, Vec3(0.0, below_rim.y(), 0.0)), 0.0);
+  // Resected over the middle: open there, still present beside the resection.
+  p.c4.lip_resection_width_m = 10e-3;
+  EXPECT_GT(vertebra_implicit(p, VertebraLevel::kC4, below_rim), 0.0);
+  for (const PartPoint& part : segment_part_points(p, 1.0))
+    if (part.name == "C4 anterior lip") {
+      EXPECT_GT(part.point_m.x(), 5.0 * kMm);
+      EXPECT_LT(part.point_m.y(), l.c4_lower_endplate_y_m);
+      EXPECT_LT(vertebra_implicit(p, VertebraLevel::kC4, part.point_m), 0.0);
+    }
+}
+
+TEST(VertebraGenerator, EveryNamedPartIsBoneOrInItsOpening) {
+  // The label points: bone parts inside their vertebra (within a little of its surface), the
+  // foramen transversarium and the canal open.
+  SegmentParams p;
+  p.c4.lip_resection_width_m = 10e-3;
+  for (double side : {-1.0, 1.0}) {
+    for (const PartPoint& part : segment_part_points(p, side)) {
+      const bool opening = part.name.find("foramen") != std::string::npos ||
+                           part.name.find("canal") != std::string::npos;
+      if (part.bone < 0 && part.name != "facet joint") {
+        EXPECT_GT(bone(p, part.point_m), 0.0) << part.name;
+        continue;
+      }
+      if (part.name == "facet joint") {
+        // Between the two lateral masses: close to both.
+        EXPECT_LT(std::abs(bone(p, part.point_m)), 1.5 * kMm) << part.name;
+        continue;
+      }
+      const VertebraLevel level = part.bone == 0 ? VertebraLevel::kC4 : VertebraLevel::kC5;
+      const double f = vertebra_implicit(p, level, part.point_m);
+      if (opening)
+        EXPECT_GT(f, 0.0) << part.name;
+      else
+        EXPECT_LT(f, 0.3 * kMm) << part.name << " at " << format_point_mm(part.point_m);
+    }
+  }
 }
 
 TEST(VertebraGenerator, ForaminaAndCanalAreOpen) {
