@@ -268,6 +268,10 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
            rs.dt_s = grid.reference_dt_s;
            rs.tolerance = grid.reference_tolerance;
            rs.max_iterations = grid.reference_max_iterations;
+           // Sleep is a skip: a scene that lets particles sleep nearer the instrument than
+           // the engine's default is measured against a reference that does not.
+           rs.sleep_distance_m =
+               std::max(base.solver.sleep_distance_m, SolverConfig{}.sleep_distance_m);
            sc.reference = run_scene(apply_settings(base, rs), sc.trajectory, sc.window, progress);
            WorkPoint p = make_point(sc.scene.name, sc.reference, sc.reference);
            p.solver = "acdr";
