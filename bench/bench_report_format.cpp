@@ -31,6 +31,9 @@ nlohmann::json point_json(const WorkPoint& p) {
           {"cpu_s_per_sim_s", p.cpu_s_per_sim_s},
           {"timing_runs", p.timing_runs},
           {"slowest_wall_s_per_sim_s", p.slowest_wall_s_per_sim_s},
+          {"mean_step_ms", p.mean_step_ms},
+          {"p99_step_ms", p.p99_step_ms},
+          {"cpu_us_per_particle_step", p.cpu_us_per_particle_step},
           {"force_rms_error", p.force_rms_error},
           {"force_peak_error", p.force_peak_error},
           {"removed_error", p.removed_error},
@@ -48,28 +51,32 @@ void write_bench_table(const BenchReport& r, std::ostream& out) {
   for (const auto& [scene, w] : r.windows)
     out << " " << scene << " " << num(w.start_s) << " s + " << num(w.duration_s) << " s";
   out << ")\n";
-  out << std::left << std::setw(7) << "scene" << std::setw(8) << "solver" << std::setw(44)
+  out << std::left << std::setw(11) << "scene" << std::setw(8) << "solver" << std::setw(44)
       << "settings" << std::right << std::setw(8) << "N" << std::setw(9) << "links"
-      << std::setw(11) << "wall s/s" << std::setw(10) << "cpu s/s" << std::setw(11) << "F rms"
+      << std::setw(11) << "wall s/s" << std::setw(10) << "cpu s/s" << std::setw(9) << "mean ms"
+      << std::setw(9) << "p99 ms" << std::setw(11) << "us/part-st" << std::setw(11) << "F rms"
       << std::setw(11) << "F peak" << std::setw(10) << "removed" << std::setw(8) << "iters"
       << "\n";
   for (const WorkPoint& p : r.points) {
-    out << std::left << std::setw(7) << p.scene << std::setw(8) << p.solver << std::setw(44)
+    out << std::left << std::setw(11) << p.scene << std::setw(8) << p.solver << std::setw(44)
         << p.settings << std::right << std::setw(8) << p.particles << std::setw(9) << p.links
         << std::setw(11) << num(p.wall_s_per_sim_s) << std::setw(10) << num(p.cpu_s_per_sim_s)
-        << std::setw(11) << num(p.force_rms_error) << std::setw(11) << num(p.force_peak_error)
-        << std::setw(10) << num(p.removed_error) << std::setw(8) << num(p.mean_iterations)
+        << std::setw(9) << num(p.mean_step_ms) << std::setw(9) << num(p.p99_step_ms)
+        << std::setw(11) << num(p.cpu_us_per_particle_step) << std::setw(11)
+        << num(p.force_rms_error) << std::setw(11) << num(p.force_peak_error) << std::setw(10)
+        << num(p.removed_error) << std::setw(8) << num(p.mean_iterations)
         << (p.failed ? "  FAILED" : "") << "\n";
   }
   out << "\nScaling (" << r.scaling_scene
       << ", every particle awake, blade in the material; CPU time per step)\n";
   out << std::right << std::setw(8) << "h mm" << std::setw(9) << "N" << std::setw(12)
-      << "wall ms" << std::setw(11) << "cpu ms" << std::setw(8) << "iters" << std::setw(16)
-      << "us/iter/part" << "\n";
+      << "wall ms" << std::setw(11) << "cpu ms" << std::setw(9) << "p99 ms" << std::setw(8)
+      << "iters" << std::setw(13) << "us/part-st" << std::setw(16) << "us/iter/part" << "\n";
   for (const ScalingPoint& p : r.scaling)
     out << std::setw(8) << num(p.spacing_m * 1e3) << std::setw(9) << p.particles
         << std::setw(12) << num(p.wall_ms_per_step) << std::setw(11) << num(p.cpu_ms_per_step)
-        << std::setw(8) << num(p.mean_iterations) << std::setw(16)
+        << std::setw(9) << num(p.p99_step_ms) << std::setw(8) << num(p.mean_iterations)
+        << std::setw(13) << num(p.cpu_us_per_particle_step) << std::setw(16)
         << num(p.cpu_us_per_iteration_per_particle) << "\n";
   out << "fit: cost ~ N^" << num(r.scaling_fit.exponent) << " (r2 " << num(r.scaling_fit.r2)
       << "); per PCG iteration ~ N^" << num(r.per_iteration_fit.exponent) << "\n";
@@ -95,24 +102,26 @@ void write_bench_table(const BenchReport& r, std::ostream& out) {
 void write_bench_csv(const BenchReport& r, std::ostream& f) {
   f << "kind,scene,solver,settings,particles,links,wall_s_per_sim_s,cpu_s_per_sim_s,"
        "force_rms_error,force_peak_error,removed_error,mean_iterations,default,reference,"
-       "spacing_m,cpu_ms_per_step,wall_ms_per_step,gain\n";
+       "spacing_m,cpu_ms_per_step,wall_ms_per_step,gain,p99_step_ms,cpu_us_per_particle_step\n";
   for (const WorkPoint& p : r.points)
     f << "point," << p.scene << "," << p.solver << ",\"" << p.settings << "\"," << p.particles
       << "," << p.links << "," << p.wall_s_per_sim_s << "," << p.cpu_s_per_sim_s << ","
       << p.force_rms_error << "," << p.force_peak_error << "," << p.removed_error << ","
       << p.mean_iterations << "," << p.is_default << "," << p.is_reference << "," << p.spacing_m
-      << ",,,\n";
+      << ",," << p.mean_step_ms << ",," << p.p99_step_ms << "," << p.cpu_us_per_particle_step
+      << "\n";
   for (const ScalingPoint& p : r.scaling)
     f << "scaling," << r.scaling_scene << ",acdr,\"all awake\"," << p.particles << ",,,,,,,"
       << p.mean_iterations << ",,," << p.spacing_m << "," << p.cpu_ms_per_step << ","
-      << p.wall_ms_per_step << ",\n";
+      << p.wall_ms_per_step << ",," << p.p99_step_ms << "," << p.cpu_us_per_particle_step
+      << "\n";
   for (const SkipResult& s : r.skips) {
     if (!s.measured) continue;
     f << "skip," << r.skips_scene << ",acdr,\"" << s.name << " on\",,," << s.on_wall_s_per_sim_s
       << "," << s.on_cpu_s_per_sim_s << "," << s.force_rms_error << ",," << s.removed_error
-      << ",,,,,,," << s.gain << "\n";
+      << ",,,,,,," << s.gain << ",,\n";
     f << "skip," << r.skips_scene << ",acdr,\"" << s.name << " off\",,," << s.off_wall_s_per_sim_s
-      << "," << s.off_cpu_s_per_sim_s << ",0,,0,,,,,,,\n";
+      << "," << s.off_cpu_s_per_sim_s << ",0,,0,,,,,,,,,\n";
   }
 }
 
@@ -130,6 +139,8 @@ nlohmann::json bench_report_json(const BenchReport& r) {
                                  {"wall_ms_per_step", p.wall_ms_per_step},
                                  {"cpu_ms_per_step", p.cpu_ms_per_step},
                                  {"mean_iterations", p.mean_iterations},
+                                 {"p99_step_ms", p.p99_step_ms},
+                                 {"cpu_us_per_particle_step", p.cpu_us_per_particle_step},
                                  {"cpu_us_per_iteration_per_particle",
                                   p.cpu_us_per_iteration_per_particle}});
   scaling["exponent"] = r.scaling_fit.exponent;

@@ -25,6 +25,9 @@ struct BenchScene {
   double window_start_s = 0.0;
   /// > 0: replaces the scenario's particle spacing (m), e.g. a tiny scene for a test.
   double spacing_m = 0.0;
+  /// false: the grid's finer and coarser lattices are not run on this scene (a scene whose
+  /// lattice is the target itself: at x0.5 it would be eight times the particles).
+  bool spacing_sweep = true;
 };
 
 /// What the benchmark runs: the grid of the work-precision diagram, the peer's sweep, the
@@ -90,6 +93,10 @@ struct WorkPoint {
   double cpu_s_per_sim_s = 0.0;
   int timing_runs = 1;                    ///< timed runs; the times above are the fastest
   double slowest_wall_s_per_sim_s = 0.0;  ///< the slowest of those runs (host noise)
+  double mean_step_ms = 0.0;              ///< wall time per step of the fastest run, ms
+  double p99_step_ms = 0.0;               ///< its 99th-percentile step, wall, ms
+  /// CPU time per step per particle of the scene (every particle, awake or not), us.
+  double cpu_us_per_particle_step = 0.0;
   double force_rms_error = 0.0;
   double force_peak_error = 0.0;
   double removed_error = 0.0;
@@ -107,6 +114,8 @@ struct ScalingPoint {
   double cpu_ms_per_step = 0.0;
   double mean_iterations = 0.0;
   double cpu_us_per_iteration_per_particle = 0.0;
+  double cpu_us_per_particle_step = 0.0;  ///< CPU time per step per particle, us
+  double p99_step_ms = 0.0;               ///< 99th-percentile step, wall, ms
 };
 
 /// Least-squares fit cost = c * N^exponent on log-log axes.

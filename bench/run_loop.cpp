@@ -4,8 +4,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <vector>
 
 namespace acdr {
+
+double nearest_rank_percentile(std::vector<double>& values, double fraction) {
+  if (values.empty()) return 0.0;
+  // The smallest value at or above `fraction` of them.
+  const double n = static_cast<double>(values.size());
+  const auto rank = static_cast<std::size_t>(std::clamp(std::ceil(fraction * n), 1.0, n)) - 1;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank),
+                   values.end());
+  return values[rank];
+}
 
 std::int64_t run_step_count(double duration_s, double dt_s) {
   return static_cast<std::int64_t>(std::llround(duration_s / dt_s));
@@ -20,6 +31,8 @@ std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& win
   out.t_s.reserve(windows);
   out.force_N.reserve(windows);
   out.instrument.reserve(windows);
+  std::vector<double> step_wall;  // timed steps' wall times, for the percentile
+  step_wall.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, steps)));
   Vec3 f_sum = Vec3::Zero();
   int f_count = 0;
   auto start = Clock::now();
@@ -32,8 +45,9 @@ std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& win
     }
     const auto step_start = Clock::now();
     const LoopStep s = step(k);
-    out.max_step_wall_s = std::max(
-        out.max_step_wall_s, std::chrono::duration<double>(Clock::now() - step_start).count());
+    const double step_s = std::chrono::duration<double>(Clock::now() - step_start).count();
+    out.max_step_wall_s = std::max(out.max_step_wall_s, step_s);
+    if (k >= window.warmup_steps) step_wall.push_back(step_s);
     ++ran;
     f_sum += s.force_N;
     ++f_count;
@@ -53,6 +67,7 @@ std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& win
   out.cpu_s = thread_cpu_s() - cpu_start;
   out.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   out.timed_steps = std::max<std::int64_t>(0, ran - window.warmup_steps);
+  out.p99_step_wall_s = nearest_rank_percentile(step_wall, 0.99);
   if (progress) progress(1.0);
   return ran;
 }

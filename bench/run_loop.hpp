@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include "bench/scene_run.hpp"
 
@@ -20,13 +21,16 @@ struct LoopStep {
   bool stop = false;               ///< the run failed: no further steps
 };
 
+/// The nearest-rank percentile (0 < fraction <= 1) of `values` (reordered); 0 when empty.
+double nearest_rank_percentile(std::vector<double>& values, double fraction);
+
 /// Steps in a run of `duration_s` at `dt_s`: round(duration / dt).
 std::int64_t run_step_count(double duration_s, double dt_s);
 
 /// Runs `step(k)` for k = 0, 1, ... over `duration_s` at `dt_s` (round(duration / dt) steps, or
 /// until a step says stop). Fills `out`'s force windows (t_s, force_N, and instrument where the
 /// steps give a pose), wall_s and cpu_s (over the steps after window.warmup_steps), timed_steps
-/// and max_step_wall_s; calls `progress(fraction)` every 250 steps and at the end when given.
+/// max_step_wall_s and p99_step_wall_s (over the timed steps); calls `progress(fraction)` every 250 steps and at the end when given.
 /// Returns the number of steps run.
 std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& window, RunTrace& out,
                             const std::function<LoopStep(std::int64_t)>& step,

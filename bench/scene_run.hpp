@@ -23,6 +23,7 @@ struct RunSettings {
   double tolerance = 0.0;      ///< relative PCG residual
   double spacing_m = 0.0;      ///< particle spacing h, m (the blocks are refilled at it)
   int sleep = -1;              ///< 1/0: sleeping far particles on/off; -1: the scene's setting
+  double sleep_distance_m = 0.0;  ///< particles this near a moving collider stay awake, m
 };
 
 /// Applies `s` to a copy of `base`.
@@ -53,6 +54,7 @@ struct RunTrace {
   double wall_s = 0.0;              ///< wall time of the stepping loop (after the warm-up)
   double cpu_s = 0.0;               ///< CPU time of this thread in the loop (robust on a shared machine)
   double max_step_wall_s = 0.0;     ///< slowest single step, wall
+  double p99_step_wall_s = 0.0;     ///< 99th percentile of the timed steps' wall times
   std::int64_t steps = 0;
   std::int64_t timed_steps = 0;     ///< steps after the warm-up (those wall_s and cpu_s cover)
   double mean_iterations = 0.0;

@@ -32,6 +32,14 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
                              "content/trajectories/box_demo.csv", 1.0});
     config.scenes.push_back({"c4c5", "scenarios/modules/02_c4c5_healthy.json",
                              "content/trajectories/c4c5_expert.csv", 1.5});
+    // The target scene: module 02's segment with the disc at its published size (16 x 16 mm)
+    // on a 0.5 mm lattice, the same scoop (its cup meets the nucleus in the same phase). Its
+    // lattice is the point, so it has no finer or coarser lattices (x0.5 would be ~55k
+    // particles).
+    BenchScene full{"c4c5_full", "bench/scenes/c4c5_full_disc.json",
+                    "content/trajectories/c4c5_expert.csv", 1.5};
+    full.spacing_sweep = false;
+    config.scenes.push_back(full);
   }
   for (const std::string& spec : options.scenes) {
     const auto eq = spec.find('=');

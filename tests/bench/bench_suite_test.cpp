@@ -95,6 +95,12 @@ void check_errors() {
       EXPECT_FALSE(p.failed);
       EXPECT_GE(p.slowest_wall_s_per_sim_s, p.wall_s_per_sim_s);
     }
+    if (p.solver == "acdr") {
+      // Step times: the 99th percentile is at least the typical step, at most the slowest.
+      EXPECT_GT(p.mean_step_ms, 0.0);
+      EXPECT_GT(p.p99_step_ms, 0.0);
+      EXPECT_GT(p.cpu_us_per_particle_step, 0.0);
+    }
   }
   for (const SkipResult& s : report_->skips) {
     if (!s.measured) continue;
@@ -112,13 +118,15 @@ void check_json() {
   ASSERT_EQ(j["points"].size(), report_->points.size());
   for (const auto& p : j["points"]) {
     for (const char* key : {"scene", "solver", "settings", "wall_s_per_sim_s",
-                            "force_rms_error", "removed_error"})
+                            "force_rms_error", "removed_error", "mean_step_ms", "p99_step_ms",
+                            "cpu_us_per_particle_step"})
       EXPECT_TRUE(p.contains(key)) << key;
     EXPECT_TRUE(p["solver"] == "acdr" || p["solver"] == "bullet");
     EXPECT_TRUE(p["settings"].is_object());
   }
   EXPECT_TRUE(j["scaling"].contains("exponent"));
   EXPECT_TRUE(j["scaling"]["points"].is_array());
+  for (const auto& p : j["scaling"]["points"]) EXPECT_TRUE(p.contains("cpu_us_per_particle_step"));
   EXPECT_EQ(j["skips"].size(), 4u);
   // Table and CSV name every point.
   std::ostringstream table, csv;

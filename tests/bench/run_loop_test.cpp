@@ -92,5 +92,22 @@ TEST(RunLoop, WarmUpStepsAreNotTimedAndProgressEndsAtOne) {
   EXPECT_EQ(progress[3], 1.0);
 }
 
+TEST(RunLoop, NearestRankPercentileIsTheSmallestValueAtOrAboveTheFraction) {
+  std::vector<double> none;
+  EXPECT_EQ(nearest_rank_percentile(none, 0.99), 0.0);
+  // 100 steps, two slow: the 99th percentile is the first of them; one slow: a fast one.
+  std::vector<double> v(100, 1.0);
+  v[17] = 5.0;
+  v[60] = 7.0;
+  EXPECT_EQ(nearest_rank_percentile(v, 0.99), 5.0);
+  std::vector<double> w(100, 1.0);
+  w[3] = 9.0;
+  EXPECT_EQ(nearest_rank_percentile(w, 0.99), 1.0);
+  std::vector<double> one{4.0};
+  EXPECT_EQ(nearest_rank_percentile(one, 0.99), 4.0);
+  std::vector<double> u{3.0, 1.0, 2.0};
+  EXPECT_EQ(nearest_rank_percentile(u, 0.5), 2.0);
+}
+
 }  // namespace
 }  // namespace acdr
