@@ -93,9 +93,11 @@ void BoneStressWorker::run() {
     const double cpu_start = thread_cpu_now();
     stats_.lag_s = std::max(stats_.lag_s, start - item.second);
     // A live stress view wants every element now and then: this sample in full, when nothing
-    // waits behind it.
-    scratch.nodal_fields = caught_up && field_wanted_.load(std::memory_order_relaxed) &&
-                           start - last_field >= kFieldPeriod_s;
+    // waits behind it, or once a second while the worker is behind (a busy machine).
+    const double since_field = start - last_field;
+    scratch.nodal_fields = field_wanted_.load(std::memory_order_relaxed) &&
+                           ((caught_up && since_field >= kFieldPeriod_s) ||
+                            since_field >= kFieldBehindPeriod_s);
     const BoneSampleResult r = bone->solve(item.first.t_s, item.first.points, scratch);
     if (scratch.nodal_fields && (r.solved[0] || r.solved[1])) {
       last_field = start;

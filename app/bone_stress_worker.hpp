@@ -68,10 +68,12 @@ class BoneStressWorker {
 
   /// From any thread: while on, the worker solves a sample in full (every element, not only
   /// the measured ones: the same metrics bit for bit) when it has caught up (no sample waiting)
-  /// and the last field is at least kFieldPeriod old, and publishes it in latest_field().
+  /// and the last field is at least kFieldPeriod_s old, or, while it is behind, when the last
+  /// one is kFieldBehindPeriod_s old; it publishes it in latest_field().
   void set_field_wanted(bool on) { field_wanted_.store(on, std::memory_order_relaxed); }
   LatestValue<BoneStressField>& latest_field() { return latest_field_; }
   static constexpr double kFieldPeriod_s = 0.1;
+  static constexpr double kFieldBehindPeriod_s = 1.0;
   /// The built model, null before it is built (or when it could not be). Immutable and alive
   /// as long as the worker: a display may read its meshes from any thread.
   const BoneSegment* bone() const { return bone_ptr_.load(std::memory_order_acquire); }
