@@ -124,8 +124,8 @@ void draw_bone_stress_pane(BoneStressPane& pane, double* t_s) {
     pane.show_time(*t_s);
   }
   ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.62f, 0.64f, 0.68f, 1.0f));
-  ImGui::Text("sample at %.2f s, %.2f N on the bone%s", pane.sample_t_s(), pane.sample_load_N(),
-              pane.sample_solved() ? "" : " (too little to solve: no stress)");
+  ImGui::Text("sample at %.2f s, %.2f N on the bone%s; anterior up", pane.sample_t_s(),
+              pane.sample_load_N(), pane.sample_solved() ? "" : " (too little to solve: no stress)");
   ImGui::PopStyleColor();
 
   // Both views at one scale: x across, anterior (+z in the segment frame) up.
@@ -168,12 +168,10 @@ void draw_bone_stress_pane(BoneStressPane& pane, double* t_s) {
                                 ImVec4(c[0] * shade, c[1] * shade, c[2] * shade, 1.0f)));
     }
     char title[96];
-    std::snprintf(title, sizeof title, "%s, from %s", v == 0 ? "C4 lower endplate" : "C5 upper endplate",
-                  v == 0 ? "below" : "above");
+    std::snprintf(title, sizeof title, "%s", v == 0 ? "C4 lower, from below" : "C5 upper, from above");
     dl->AddText(ImVec2(a.x + 5, a.y + 3), IM_COL32(225, 225, 230, 255), title);
     std::snprintf(title, sizeof title, "endplate peak %.3g MPa", s.endplate_peak_Pa * 1e-6);
     dl->AddText(ImVec2(a.x + 5, b.y - 17), IM_COL32(225, 225, 230, 255), title);
-    dl->AddText(ImVec2(b.x - 80, b.y - 17), IM_COL32(150, 152, 160, 255), "anterior up");
     dl->PopClipRect();
     dl->AddRect(a, b, IM_COL32(90, 92, 98, 255));
   }
