@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 
 #include "tests/engine/anatomy/coarse_segment_scene.hpp"
 
@@ -48,8 +51,13 @@ TEST(BoneStressWorker, AWantedFieldIsPublishedWithEveryElementAndTheSameMetrics)
   // The same sample through a worker asked for fields and one that is not.
   BoneStressSummary with_field, without;
   std::string error;
+  // One meshing: the second worker loads the meshes from the first one's cache.
+  const std::string cache = (std::filesystem::temp_directory_path() /
+                             ("acdr_bone_worker_" + std::to_string(::getpid())))
+                                .string();
+  std::filesystem::remove_all(cache);
   {
-    BoneStressWorker worker(anatomy, config, "");
+    BoneStressWorker worker(anatomy, config, cache);
     worker.set_field_wanted(true);
     worker.push(sample);  // alone in the queue: the worker has caught up when it solves it
     ASSERT_TRUE(worker.finish(&with_field, nullptr, &error)) << error;
@@ -64,11 +72,12 @@ TEST(BoneStressWorker, AWantedFieldIsPublishedWithEveryElementAndTheSameMetrics)
     });
   }
   {
-    BoneStressWorker worker(anatomy, config, "");
+    BoneStressWorker worker(anatomy, config, cache);
     worker.push(sample);
     ASSERT_TRUE(worker.finish(&without, nullptr, &error)) << error;
     EXPECT_EQ(worker.latest_field().version(), 0u);
   }
+  std::filesystem::remove_all(cache);
   EXPECT_EQ(with_field.peak_Pa, without.peak_Pa);
 }
 
