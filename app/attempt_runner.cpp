@@ -86,9 +86,10 @@ bool AttemptStepper::step() {
   if (checkpoint_sink_ && checkpoint_every_s_ > 0 && !ended_ &&
       world_.time_s() >= next_checkpoint_s_ - 0.5 * dt) {
     if (checkpoint_sink_(CheckpointView{run_.record, checkpointed_frames_, checkpointed_events_,
-                                        world_.time_s()})) {
+                                        world_.time_s(), checkpointed_bone_samples_})) {
       checkpointed_frames_ = run_.record.frames.size();
       checkpointed_events_ = run_.record.events.size();
+      checkpointed_bone_samples_ = run_.record.bone_loads.size();
     }
     next_checkpoint_s_ += checkpoint_every_s_;
   }

@@ -44,6 +44,7 @@ struct CheckpointView {
   std::size_t first_new_frame = 0;  ///< frames before this were in earlier checkpoints
   std::size_t first_new_event = 0;  ///< the same for events
   double t_s = 0.0;                 ///< simulated time so far (s)
+  std::size_t first_new_bone_sample = 0;  ///< the same for the bone's load samples
 };
 /// Saves a checkpoint (e.g. db append_checkpoint); runs on the stepping thread, so it should
 /// cost milliseconds, and only every few seconds of simulated time. Returns whether it was
@@ -87,7 +88,7 @@ class AttemptStepper {
   AttemptEnd end_ = AttemptEnd::kInputEnded;
   double checkpoint_every_s_ = 0.0;
   double next_checkpoint_s_ = 0.0;
-  std::size_t checkpointed_frames_ = 0, checkpointed_events_ = 0;
+  std::size_t checkpointed_frames_ = 0, checkpointed_events_ = 0, checkpointed_bone_samples_ = 0;
   CheckpointSink checkpoint_sink_;
   std::unique_ptr<BoneStressWorker> bone_;
 };

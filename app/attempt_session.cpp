@@ -35,7 +35,8 @@ bool refuse(SessionResult& result, std::string error, SessionEnd end = SessionEn
 // The sink that saves an attempt's checkpoints through `writer` (which must outlive it).
 CheckpointSink checkpoint_sink(CheckpointWriter& writer) {
   return [&writer](const CheckpointView& view) {
-    return writer.write(view.record, view.first_new_frame, view.first_new_event, view.t_s);
+    return writer.write(view.record, view.first_new_frame, view.first_new_event,
+                        view.first_new_bone_sample, view.t_s);
   };
 }
 

@@ -69,27 +69,48 @@ void BoneStressWorker::run() {
   stats_.background_priority = lower_this_threads_priority();
   const auto t0 = std::chrono::steady_clock::now();
   std::string why;
-  auto bone = BoneSegment::build(anatomy_, config_, cache_dir_, &why);
+  bone_ = BoneSegment::build(anatomy_, config_, cache_dir_, &why);
+  const BoneSegment* bone = bone_.get();
+  bone_ptr_.store(bone, std::memory_order_release);
   stats_.build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!bone) error_ = why.empty() ? "the bone model could not be built" : why;
   BoneStressHistory history(config_.strengths, config_.sample_period_s);
   BoneSegmentScratch scratch;
-  double solved_ms = 0.0, solved_cpu_ms = 0.0;
+  double solved_ms = 0.0, solved_cpu_ms = 0.0, last_field = -1e9;
   std::int64_t solved_samples = 0;
   for (;;) {
     std::pair<BoneLoadRecord, double> item;
+    bool caught_up = false;
     {
       std::unique_lock lock(mutex_);
       while (!closing_ && queue_.empty()) wake_.wait_for(lock, std::chrono::milliseconds(5));
       if (queue_.empty()) break;  // closing and drained
       item = std::move(queue_.front());
       queue_.pop_front();
+      caught_up = queue_.empty();
     }
     if (!bone) continue;  // drain: nothing to solve with
     const double start = wall_now();
     const double cpu_start = thread_cpu_now();
     stats_.lag_s = std::max(stats_.lag_s, start - item.second);
+    // A live stress view wants every element now and then: this sample in full, when nothing
+    // waits behind it, or once a second while the worker is behind (a busy machine).
+    const double since_field = start - last_field;
+    scratch.nodal_fields = field_wanted_.load(std::memory_order_relaxed) &&
+                           ((caught_up && since_field >= kFieldPeriod_s) ||
+                            since_field >= kFieldBehindPeriod_s);
     const BoneSampleResult r = bone->solve(item.first.t_s, item.first.points, scratch);
+    if (scratch.nodal_fields && (r.solved[0] || r.solved[1])) {
+      last_field = start;
+      latest_field_.try_publish([&](BoneStressField& f) {
+        f.result = r;
+        for (int v = 0; v < 2; ++v) {
+          const auto& vm = scratch.solution[v].element_von_mises_Pa;
+          f.element_von_mises_Pa[v].assign(r.solved[v] ? vm.begin() : vm.end(), vm.end());
+        }
+        f.loads = item.first.points;
+      });
+    }
     history.add(r);
     ++stats_.samples;
     if (r.solved[0] || r.solved[1]) {

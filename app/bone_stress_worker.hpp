@@ -9,6 +9,8 @@
 // and physics loops.
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -37,6 +39,15 @@ struct BoneWorkerStats {
   bool background_priority = false;  ///< the thread's priority was lowered
 };
 
+/// Every element's stress of both vertebrae at one solved sample, for a live stress view.
+struct BoneStressField {
+  BoneSampleResult result;
+  /// Per vertebra, per tetrahedron (Pa; in shell elements the shell's own); empty when the
+  /// vertebra was not loaded enough to solve.
+  std::array<std::vector<float>, 2> element_von_mises_Pa;
+  std::vector<BoneLoadPoint> loads;  ///< the sample's loads
+};
+
 class BoneStressWorker {
  public:
   /// Starts the thread. `anatomy` must outlive the worker; meshes are cached in `cache_dir`.
@@ -55,6 +66,18 @@ class BoneStressWorker {
   /// The newest solved sample (for a live display), version 0 before the first.
   LatestValue<BoneSampleResult>& latest() { return latest_; }
 
+  /// From any thread: while on, the worker solves a sample in full (every element, not only
+  /// the measured ones: the same metrics bit for bit) when it has caught up (no sample waiting)
+  /// and the last field is at least kFieldPeriod_s old, or, while it is behind, when the last
+  /// one is kFieldBehindPeriod_s old; it publishes it in latest_field().
+  void set_field_wanted(bool on) { field_wanted_.store(on, std::memory_order_relaxed); }
+  LatestValue<BoneStressField>& latest_field() { return latest_field_; }
+  static constexpr double kFieldPeriod_s = 0.1;
+  static constexpr double kFieldBehindPeriod_s = 1.0;
+  /// The built model, null before it is built (or when it could not be). Immutable and alive
+  /// as long as the worker: a display may read its meshes from any thread.
+  const BoneSegment* bone() const { return bone_ptr_.load(std::memory_order_acquire); }
+
  private:
   void run();
   void run_guarded();  ///< run() on the worker thread, ending it if memory runs out
@@ -72,6 +95,10 @@ class BoneStressWorker {
   BoneWorkerStats stats_;
   std::string error_;
   LatestValue<BoneSampleResult> latest_;
+  std::atomic<bool> field_wanted_{false};
+  LatestValue<BoneStressField> latest_field_;
+  std::unique_ptr<BoneSegment> bone_;  // written by the worker before bone_ptr_ is set
+  std::atomic<const BoneSegment*> bone_ptr_{nullptr};
   std::thread thread_;
 };
 

@@ -85,6 +85,8 @@ class LiveAttempt {
   }
   /// True when the device has its own loop (a live device).
   bool decoupled() const { return decoupled_; }
+  /// The bone's solver thread of this attempt (null when the scene does not model the bone).
+  BoneStressWorker* bone_worker() { return stepper_.bone_worker(); }
   /// Device ticks whose force was clamped, or zeroed for stale, non-finite or jumped input.
   std::int64_t device_clamped_ticks() const { return clamped_ticks_.load(); }
   std::int64_t device_zeroed_ticks() const { return zeroed_ticks_.load(); }

@@ -36,6 +36,7 @@ LiveAttemptCheckpoints::LiveAttemptCheckpoints(CheckpointSink sink, const WorldS
   for (Batch* b : {&staging_, &slot_, &work_}) {
     b->frames.reserve(frames);
     b->events.reserve(256);
+    b->bone_loads.reserve(frames / 8 + 16);  // a sample every 10 ms at a 1 ms step, with room
   }
   mirror_.summary = summary;
 }
@@ -53,6 +54,14 @@ void LiveAttemptCheckpoints::stage(const AttemptRecording& record) {
                            record.frames.end());
     staged_frames_ = record.frames.size();
     staged_t_ = record.frames.back().t_s;
+  }
+  if (record.bone_loads.size() > staged_bone_) {
+    // A bone sample every 10 ms or so: its loads are copied (one small allocation, as the
+    // stepper's own record and its hand-over to the bone's solver thread make for it).
+    staging_.bone_loads.insert(staging_.bone_loads.end(),
+                               record.bone_loads.begin() + static_cast<long>(staged_bone_),
+                               record.bone_loads.end());
+    staged_bone_ = record.bone_loads.size();
   }
   if (record.events.size() > staged_events_) {
     staging_.events.insert(staging_.events.end(),
@@ -95,14 +104,17 @@ void LiveAttemptCheckpoints::run() {
     }
     mirror_.frames.insert(mirror_.frames.end(), work_.frames.begin(), work_.frames.end());
     mirror_.events.insert(mirror_.events.end(), work_.events.begin(), work_.events.end());
+    mirror_.bone_loads.insert(mirror_.bone_loads.end(), work_.bone_loads.begin(),
+                              work_.bone_loads.end());
     const auto start = Clock::now();
     const bool saved =
-        sink_(CheckpointView{mirror_, saved_frames_, saved_events_, work_.t_s});
+        sink_(CheckpointView{mirror_, saved_frames_, saved_events_, work_.t_s, saved_bone_});
     const double ms = ms_since(start);
     if (saved) {
       stats_.frames_saved += static_cast<std::int64_t>(mirror_.frames.size() - saved_frames_);
       saved_frames_ = mirror_.frames.size();
       saved_events_ = mirror_.events.size();
+      saved_bone_ = mirror_.bone_loads.size();
       ++stats_.saved;
     } else {
       ++stats_.failed;  // the next call carries this part as well
@@ -119,12 +131,15 @@ void LiveAttemptCheckpoints::finish(bool flush) {
   if (!thread_.joinable()) return;
   {
     std::lock_guard lock(mutex_);
-    if (flush && (!staging_.frames.empty() || !staging_.events.empty())) {
+    if (flush && (!staging_.frames.empty() || !staging_.events.empty() ||
+                  !staging_.bone_loads.empty())) {
       const double t = staged_t_;
       if (slot_full_) {
         // The writer has not taken the last hand-over yet: this goes with it.
         slot_.frames.insert(slot_.frames.end(), staging_.frames.begin(), staging_.frames.end());
         slot_.events.insert(slot_.events.end(), staging_.events.begin(), staging_.events.end());
+        slot_.bone_loads.insert(slot_.bone_loads.end(), staging_.bone_loads.begin(),
+                                staging_.bone_loads.end());
       } else {
         std::swap(slot_, staging_);
         slot_full_ = true;

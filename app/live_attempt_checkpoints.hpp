@@ -1,8 +1,8 @@
 // Checkpoints of a live attempt, written on a thread of their own so that the physics loop never
 // compresses, computes metrics or touches the database.
 //
-// The physics thread copies each step's new frame (and any new events) into a staging buffer
-// (a few hundred bytes per step) and, at each checkpoint time, hands the staging buffer over by
+// The physics thread copies each step's new frame (and any new events and bone load samples)
+// into a staging buffer (a few hundred bytes per step) and, at each checkpoint time, hands the staging buffer over by
 // swapping it with an empty one under a try-lock: O(1), it never waits, and it wakes no one
 // (the writer looks every 10 ms, at a priority that never preempts the loops: SCHED_BATCH,
 // nice 10). If the writer has not yet taken the previous hand-over (it is still writing one
@@ -79,10 +79,12 @@ class LiveAttemptCheckpoints {
   struct Batch {
     std::vector<Frame> frames;
     std::vector<Event> events;
+    std::vector<BoneLoadRecord> bone_loads;
     double t_s = 0.0;
     void clear() {
       frames.clear();
       events.clear();
+      bone_loads.clear();
     }
   };
 
@@ -92,7 +94,7 @@ class LiveAttemptCheckpoints {
   CheckpointSink sink_;
   // Physics thread only.
   Batch staging_;
-  std::size_t staged_frames_ = 0, staged_events_ = 0;  ///< of the stepper's record
+  std::size_t staged_frames_ = 0, staged_events_ = 0, staged_bone_ = 0;  ///< of the stepper's record
   double staged_t_ = 0.0;  ///< time of the last staged frame (s)
   // Guarded by mutex_.
   std::mutex mutex_;
@@ -103,7 +105,7 @@ class LiveAttemptCheckpoints {
   // Writer thread only.
   Batch work_;
   AttemptRecording mirror_;  ///< the record so far, as handed over
-  std::size_t saved_frames_ = 0, saved_events_ = 0;  ///< of mirror_, in saved checkpoints
+  std::size_t saved_frames_ = 0, saved_events_ = 0, saved_bone_ = 0;  ///< of mirror_, saved
   double write_total_ms_ = 0.0;
   std::thread thread_;
   bool finished_ = false;

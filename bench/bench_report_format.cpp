@@ -1,6 +1,7 @@
 // Table, CSV and JSON of a benchmark report.
 #include "bench/bench_report_format.hpp"
 
+#include <algorithm>
 #include <iomanip>
 #include <sstream>
 
@@ -96,6 +97,29 @@ void write_bench_table(const BenchReport& r, std::ostream& out) {
         << std::setw(8) << num(s.gain) << std::setw(11) << num(s.force_rms_error)
         << std::setw(10) << num(s.removed_error) << (wall ? "  (wall time)" : "") << "\n";
   }
+  if (!r.bone.empty()) {
+    out << "\nBone (each load sample of the window solved as an attempt's worker solves it; per "
+           "vertebra solve = one load update; fastest of the timing runs)\n";
+    out << std::left << std::setw(7) << "scene" << std::right << std::setw(8) << "size mm"
+        << std::setw(9) << "dofs" << std::setw(11) << "L nnz" << std::setw(9) << "samples"
+        << std::setw(8) << "solves" << std::setw(8) << "loads" << std::setw(12) << "cpu ms med"
+        << std::setw(10) << "cpu p95" << std::setw(10) << "cpu max" << std::setw(13)
+        << "wall ms med" << std::setw(10) << "wall p95" << "\n";
+    for (const BoneSolveFigures& b : r.bone) {
+      out << std::left << std::setw(7) << b.scene << std::right;
+      if (!b.measured) {
+        out << "  not measured: " << b.note << "\n";
+        continue;
+      }
+      out << std::setw(8) << num(b.element_size_m * 1e3) << std::setw(9)
+          << std::max(b.free_dofs[0], b.free_dofs[1]) << std::setw(11)
+          << num(double(std::max(b.factor_nonzeros[0], b.factor_nonzeros[1])), 3) << std::setw(9)
+          << b.samples << std::setw(8) << b.solves << std::setw(8) << num(b.mean_loads_per_solve)
+          << std::setw(12) << num(b.solve_cpu.median_ms) << std::setw(10)
+          << num(b.solve_cpu.p95_ms) << std::setw(10) << num(b.solve_cpu.max_ms) << std::setw(13)
+          << num(b.solve_wall.median_ms) << std::setw(10) << num(b.solve_wall.p95_ms) << "\n";
+    }
+  }
   out << "\nmachine: " << r.machine << "\nbenchmark wall time: " << num(r.wall_s, 4) << " s\n";
 }
 
@@ -115,6 +139,12 @@ void write_bench_csv(const BenchReport& r, std::ostream& f) {
       << p.mean_iterations << ",,," << p.spacing_m << "," << p.cpu_ms_per_step << ","
       << p.wall_ms_per_step << ",," << p.p99_step_ms << "," << p.cpu_us_per_particle_step
       << "\n";
+  for (const BoneSolveFigures& b : r.bone) {
+    if (!b.measured) continue;
+    f << "bone," << b.scene << ",acdr,\"vertebra solve, " << b.solves << " solves\",,,,,,,,,,,"
+      << b.element_size_m << "," << b.solve_cpu.median_ms << "," << b.solve_wall.median_ms
+      << ",,,\n";
+  }
   for (const SkipResult& s : r.skips) {
     if (!s.measured) continue;
     f << "skip," << r.skips_scene << ",acdr,\"" << s.name << " on\",,," << s.on_wall_s_per_sim_s
@@ -160,6 +190,31 @@ nlohmann::json bench_report_json(const BenchReport& r) {
       j["removed_error"] = s.removed_error;
     }
     doc["skips"].push_back(j);
+  }
+  doc["bone"] = nlohmann::json::array();
+  auto timing = [](const TimingSummary& t) {
+    return nlohmann::json{{"median_ms", t.median_ms}, {"mean_ms", t.mean_ms},
+                          {"p95_ms", t.p95_ms}, {"max_ms", t.max_ms}};
+  };
+  for (const BoneSolveFigures& b : r.bone) {
+    nlohmann::json j = {{"scene", b.scene}, {"measured", b.measured}};
+    if (!b.measured) {
+      j["note"] = b.note;
+    } else {
+      j["element_size_m"] = b.element_size_m;
+      j["free_dofs"] = b.free_dofs;
+      j["factor_nonzeros"] = b.factor_nonzeros;
+      j["back_substitution_share"] = b.back_substitution_share;
+      j["build_s"] = b.build_s;
+      j["samples"] = b.samples;
+      j["solves"] = b.solves;
+      j["mean_loads_per_solve"] = b.mean_loads_per_solve;
+      j["solve_cpu"] = timing(b.solve_cpu);
+      j["solve_wall"] = timing(b.solve_wall);
+      j["sample_cpu"] = timing(b.sample_cpu);
+      j["sample_wall"] = timing(b.sample_wall);
+    }
+    doc["bone"].push_back(j);
   }
   doc["windows"] = nlohmann::json::object();
   for (const auto& [scene, w] : r.windows)

@@ -9,7 +9,9 @@
 #include <memory>
 #include <sstream>
 
+#include "bench/bone_solve_bench.hpp"
 #include "bench/run_loop.hpp"
+#include "engine/anatomy/anatomy.hpp"
 #include "bench/trace_error.hpp"
 #include "engine/rigid/instrument.hpp"
 #include "engine/nucleus/nucleus.hpp"
@@ -221,6 +223,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
     Trajectory trajectory;
     RunWindow window;
     RunTrace reference;
+    BoneModelConfig bone;
   };
   std::vector<Loaded> scenes;
   scenes.reserve(config.scenes.size());
@@ -233,7 +236,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
     }
     auto trajectory = Trajectory::load_csv(s.trajectory_path, error);
     if (!trajectory) return false;
-    Loaded l{s, loaded.model->world, std::move(*trajectory), {}, {}};
+    Loaded l{s, loaded.model->world, std::move(*trajectory), {}, {}, loaded.model->bone};
     if (s.spacing_m > 0.0) l.world.nucleus.spacing_m = s.spacing_m;
     l.window.start_s = s.window_start_s;
     l.window.duration_s = grid.window_s;
@@ -370,6 +373,35 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
              rep.points.push_back(p);
            }});
     }
+  }
+
+  // The bone: each load sample of the scene's window solved as the attempt's worker solves it
+  // (the scenario's model, meshes from the cache), timed per vertebra solve.
+  for (Loaded& sc : scenes) {
+    if (!sc.bone.enabled) continue;
+    jobs.push_back({sc.scene.name + ": bone solves", grid.window_s / 1e-3 * 1.5,
+                    [&](const auto&) {
+                      BoneSolveFigures f;
+                      const std::vector<BoneLoadRecord> samples =
+                          sample_bone_loads(sc.world, sc.trajectory, sc.window);
+                      std::string why;
+                      std::unique_ptr<BoneSegment> bone;
+                      try {
+                        const Anatomy anatomy(sc.world.anatomy);
+                        bone = BoneSegment::build(anatomy, sc.bone,
+                                                  anatomy_cache_dir(sc.world.anatomy, "bone"),
+                                                  &why);
+                      } catch (const std::exception& e) {
+                        why = e.what();
+                      }
+                      if (bone) {
+                        f = time_bone_solves(*bone, samples, std::max(1, grid.timing_runs));
+                      } else {
+                        f.note = "the bone model could not be built: " + why;
+                      }
+                      f.scene = sc.scene.name;
+                      rep.bone.push_back(f);
+                    }});
   }
 
   // Scaling: cost of a step with every particle awake (the worst case; sleeping far particles

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench/bone_solve_bench.hpp"
 #include "bench/bullet_peer.hpp"
 #include "bench/scene_run.hpp"
 
@@ -149,6 +150,9 @@ struct BenchReport {
   std::string machine;             ///< CPU model, cores, load average at start and end
   double wall_s = 0.0;             ///< the whole benchmark
   bool quick = false;
+  /// The bone's solves per load update, for each scene that models the bone (its
+  /// work-precision window's load samples, solved as an attempt's worker solves them).
+  std::vector<BoneSolveFigures> bone;
   /// The trajectory window of each scene's work-precision runs (same order as the scenes).
   std::vector<std::pair<std::string, RunWindow>> windows;
 };

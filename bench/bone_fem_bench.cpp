@@ -6,8 +6,13 @@
 //
 //   acdr_bone_fem_bench [--sizes 2.0,1.5,1.0] [--order linear|quadratic]
 //                       [--solver cholmod|eigen-llt] [--repeats 50] [--csv FILE]
+//   acdr_bone_fem_bench --scene SCENARIO.json:TRAJECTORY.csv[@START_S[+DURATION_S]]
+//                       [--repeats 3]
 // solve = contact forces and substitution; update = solve plus the stress recovery (element
 // and nodal stresses), i.e. one load update; CPU times are this thread's.
+// --scene runs the scenario along the trajectory window (default: all of it), keeps the bone
+// load samples the world takes and solves them as an attempt's worker does (the scenario's
+// bone model, meshes from the cache): per vertebra solve and per sample, CPU and wall.
 #include <time.h>
 #include <unistd.h>
 
@@ -21,8 +26,12 @@
 #include <string>
 #include <vector>
 
+#include "bench/bone_solve_bench.hpp"
+#include "bench/scene_run.hpp"
+#include "engine/anatomy/anatomy.hpp"
 #include "engine/anatomy/vertebra_generator.hpp"
 #include "engine/bone/bone_fem.hpp"
+#include "scenarios/scenario_loader.hpp"
 
 namespace {
 
@@ -53,6 +62,74 @@ struct Row {
   double min_dihedral = 0, max_aspect = 0;
 };
 
+void print_timing(const char* what, const TimingSummary& t) {
+  std::printf("  %-28s median %7.3f  mean %7.3f  p95 %7.3f  max %7.3f ms\n", what, t.median_ms,
+              t.mean_ms, t.p95_ms, t.max_ms);
+}
+
+// --scene: the scenario's bone model on the loads of a run along the trajectory.
+int scene_bench(const std::string& spec, int repeats) {
+  const auto colon = spec.rfind(':');
+  if (colon == std::string::npos) {
+    std::fprintf(stderr, "--scene '%s': expected SCENARIO.json:TRAJECTORY.csv[@START[+DUR]]\n",
+                 spec.c_str());
+    return 2;
+  }
+  std::string trajectory_path = spec.substr(colon + 1);
+  RunWindow window;
+  if (const auto at = trajectory_path.find('@'); at != std::string::npos) {
+    const std::string times = trajectory_path.substr(at + 1);
+    trajectory_path.resize(at);
+    window.start_s = std::atof(times.c_str());
+    if (const auto plus = times.find('+'); plus != std::string::npos)
+      window.duration_s = std::atof(times.c_str() + plus + 1);
+  }
+  const LoadResult loaded = load_scenario_file(spec.substr(0, colon));
+  if (!loaded.ok()) {
+    std::fprintf(stderr, "%s\n", loaded.errors.empty() ? "cannot load the scenario"
+                                                       : loaded.errors.front().to_string().c_str());
+    return 2;
+  }
+  const ScenarioModel& scenario = *loaded.model;
+  if (!scenario.bone.enabled) {
+    std::fprintf(stderr, "%s: the scenario does not model the bone\n", scenario.path.c_str());
+    return 2;
+  }
+  std::string error;
+  auto trajectory = Trajectory::load_csv(trajectory_path, &error);
+  if (!trajectory) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 2;
+  }
+  const double w0 = wall_seconds();
+  const std::vector<BoneLoadRecord> samples =
+      sample_bone_loads(scenario.world, *trajectory, window);
+  const double run_s = wall_seconds() - w0;
+  const Anatomy anatomy(scenario.world.anatomy);
+  auto bone = BoneSegment::build(anatomy, scenario.bone,
+                                 anatomy_cache_dir(scenario.world.anatomy, "bone"), &error);
+  if (!bone) {
+    std::fprintf(stderr, "bone model: %s\n", error.c_str());
+    return 1;
+  }
+  const BoneSolveFigures f = time_bone_solves(*bone, samples, repeats);
+  std::printf("%s along %s (%zu samples taken in %.1f s of run)\n", scenario.path.c_str(),
+              trajectory_path.c_str(), f.samples, run_s);
+  std::printf("  element size %.2f mm; free dofs C4 %zu C5 %zu; factor nnz C4 %zu C5 %zu; build "
+              "%.2f s\n",
+              f.element_size_m * 1e3, f.free_dofs[0], f.free_dofs[1], f.factor_nonzeros[0],
+              f.factor_nonzeros[1], f.build_s);
+  std::printf("  back substitution of the measured elements: %.0f %% (C4), %.0f %% (C5) of the factor\n",
+              100.0 * f.back_substitution_share[0], 100.0 * f.back_substitution_share[1]);
+  std::printf("  %zu vertebra solves, %.1f patch loads each on average (fastest of %d)\n",
+              f.solves, f.mean_loads_per_solve, repeats);
+  print_timing("per vertebra solve, CPU", f.solve_cpu);
+  print_timing("per vertebra solve, wall", f.solve_wall);
+  print_timing("per loaded sample, CPU", f.sample_cpu);
+  print_timing("per loaded sample, wall", f.sample_wall);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -60,7 +137,7 @@ int main(int argc, char** argv) {
   TetOrder order = TetOrder::kLinear;
   SparseSolverKind solver = SparseSolverKind::kCholmod;
   int repeats = 50;
-  std::string csv;
+  std::string csv, scene;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string {
@@ -82,11 +159,15 @@ int main(int argc, char** argv) {
       repeats = std::max(1, std::atoi(next().c_str()));
     } else if (a == "--csv") {
       csv = next();
+    } else if (a == "--scene") {
+      scene = next();
     } else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());
       return 2;
     }
   }
+
+  if (!scene.empty()) return scene_bench(scene, repeats == 50 ? 3 : repeats);
 
   const SegmentParams segment;
   const SegmentLandmarks marks = segment_landmarks(segment);

@@ -75,6 +75,9 @@ int main(int argc, char** argv) {
                       "Window: save a picture of the score screen (PNG)");
   run_cmd->add_option("--close-after", run.close_after_s,
                       "Window: close the score screen after this many seconds");
+  run_cmd->add_flag("--stress-view", run.stress_view,
+                    "Window: start with the bone stress view on (key B toggles it; scenes that "
+                    "model the bone)");
   run_cmd->callback([&] { code = acdr::run_run(run, std::cout, std::cerr); });
 
   // acdr dashboard

@@ -22,6 +22,7 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     window.screenshot_at_s = options.screenshot_at_s;
     window.score_screenshot = options.score_screenshot;
     window.close_after_s = options.close_after_s;
+    window.stress_view = options.stress_view;
     window.input_label = options.input;
     view = std::make_unique<TraineeView>(window);
   }

@@ -22,6 +22,8 @@ struct RunOptions : SessionOptions {
   /// and of the score screen; close the score screen after `close_after_s` (< 0: by hand).
   std::string screenshot;
   double screenshot_at_s = -1.0;
+  /// Window only: start with the bone stress view on (key B toggles it).
+  bool stress_view = false;
   std::string score_screenshot;
   double close_after_s = -1.0;
 };

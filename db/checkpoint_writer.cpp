@@ -26,7 +26,8 @@ CheckpointWriter::CheckpointWriter(Database& db, std::int64_t attempt_id, std::o
     : db_(db), attempt_id_(attempt_id), err_(err) {}
 
 bool CheckpointWriter::write(const AttemptRecording& record, std::size_t first_new_frame,
-                             std::size_t first_new_event, double t_s) {
+                             std::size_t first_new_event, std::size_t first_new_bone_sample,
+                             double t_s) {
   AttemptCheckpoint checkpoint;
   RecordingData chunk;
   chunk.format = kRecordingFormat;
@@ -39,6 +40,8 @@ bool CheckpointWriter::write(const AttemptRecording& record, std::size_t first_n
       std::span<const Event>(record.events).subspan(first_new_event);
   append_frame_block(frames, chunk.bytes);
   append_event_block(events, chunk.bytes);
+  append_bone_load_block(std::span<const BoneLoadRecord>(record.bone_loads).subspan(first_new_bone_sample),
+                         chunk.bytes);
   chunk.frame_count = static_cast<std::int64_t>(frames.size());
   checkpoint.chunk = std::move(chunk);
   checkpoint.new_events = event_records(events, record.summary.zones);

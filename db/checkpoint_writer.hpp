@@ -28,12 +28,14 @@ class CheckpointWriter {
   /// live attempt gives its writer thread a connection of its own). The attempt must be running.
   CheckpointWriter(Database& db, std::int64_t attempt_id, std::ostream& err);
 
-  /// Appends the part of `record` from `first_new_frame` and `first_new_event` on as the next
-  /// checkpoint, with the metrics of the whole `record` and the simulated time so far `t_s`
-  /// (s). Returns whether it was saved; when not (the store refused: warned on `err` once), the
-  /// caller passes the same first indices again next time, so nothing is lost.
+  /// Appends the part of `record` from `first_new_frame`, `first_new_event` and
+  /// `first_new_bone_sample` on as the next checkpoint (the bone's load samples too, so an
+  /// attempt that never finishes keeps its stress history for a re-score), with the metrics of
+  /// the whole `record` and the simulated time so far `t_s` (s). Returns whether it was saved;
+  /// when not (the store refused: warned on `err` once), the caller passes the same first
+  /// indices again next time, so nothing is lost.
   bool write(const AttemptRecording& record, std::size_t first_new_frame,
-             std::size_t first_new_event, double t_s);
+             std::size_t first_new_event, std::size_t first_new_bone_sample, double t_s);
 
   int saved() const { return saved_; }
 

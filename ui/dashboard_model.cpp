@@ -11,6 +11,7 @@
 #include "engine/rigid/instrument.hpp"
 #include "engine/rigid/static_scene.hpp"
 #include "scenarios/scenario_loader.hpp"
+#include "ui/bone_stress_pane.hpp"
 
 namespace acdr {
 
@@ -88,18 +89,19 @@ void extend_by_box(const Collider& c, Eigen::AlignedBox3d& bounds) {
 
 // The module's scenario (path as the runs stored it): its rubric and the replay's walls and
 // instrument. Sets `d.scenario_error` when it cannot be read.
-void load_scenario_parts(Database& db, AttemptDrillDown& d) {
+// Returns the scenario (null when it cannot be read).
+std::shared_ptr<const ScenarioModel> load_scenario_parts(Database& db, AttemptDrillDown& d) {
   auto module = find_module(db, d.record.module_id);
   if (!module || !module.value() || module.value()->scenario_path.empty()) {
     d.scenario_error = !module ? module.error().message : "no scenario file recorded";
-    return;
+    return nullptr;
   }
   const std::string& path = module.value()->scenario_path;
   const LoadResult loaded = load_scenario_file(path);
   if (!loaded.ok()) {
     d.scenario_error =
         path + ": " + (loaded.errors.empty() ? "cannot load" : to_string(loaded.errors));
-    return;
+    return nullptr;
   }
   const WorldConfig& world = loaded.model->world;
   d.rubric = loaded.model->rubric;
@@ -110,6 +112,7 @@ void load_scenario_parts(Database& db, AttemptDrillDown& d) {
   }
   if (world.instrument.enabled)
     d.replay.instrument = InstrumentGeometry(world.instrument).local_colliders();
+  return loaded.model;
 }
 
 // Appends to `bands` the intervals where `inside(frame)` holds.
@@ -141,7 +144,7 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   }
   auto d = std::make_unique<AttemptDrillDown>();
   d->record = std::move(*loaded.value());
-  load_scenario_parts(db, *d);
+  const std::shared_ptr<const ScenarioModel> scenario = load_scenario_parts(db, *d);
   d->metric_rows = score_table(d->record.metrics, d->record.score_detail,
                                d->rubric ? &*d->rubric : nullptr, ScoreTableScope::kAllMetrics);
   d->scale = score_scale_text(d->rubric ? &*d->rubric : nullptr);
@@ -195,6 +198,13 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   collect_bands(r.frames, [&](const Frame& f) { return any_zone(f, true); }, d->zone_inside);
   d->duration_s = n ? r.frames.back().t_s : 0.0;
   for (const Frame& f : r.frames) d->replay.bounds.extend(f.tip_m);
+  if (scenario && scenario->bone.enabled) {
+    // The stresses come from the recorded loads; the scale from the attempt's endplate peak.
+    d->bone_stress = BoneStressPane::create(*scenario, r, &d->bone_stress_note);
+    if (d->bone_stress)
+      if (const double* peak = d->record.metrics.find("endplate_peak_stress_MPa"))
+        d->bone_stress->set_scale_top(*peak * 1e6);
+  }
   return d;
 }
 

@@ -23,6 +23,8 @@
 
 namespace acdr {
 
+class BoneStressPane;  // ui/bone_stress_pane.hpp
+
 struct DashboardTrainee {
   TraineeRecord info;
   std::vector<ModuleProgress> progress;  ///< one per module, in curriculum order
@@ -90,6 +92,11 @@ struct AttemptDrillDown {
   std::vector<std::string> zone_findings;
   /// How to read the scores (score_scale_text of the module's rubric).
   std::vector<std::string> scale;
+  /// The bone's stress at the replay's time (ui/bone_stress_pane.hpp): null when the module
+  /// does not model the bone or the recording has no bone loads; `bone_stress_note` says why
+  /// when the module models it.
+  std::shared_ptr<BoneStressPane> bone_stress;
+  std::string bone_stress_note;
 
   /// Index of the last frame at or before time t (0 when none).
   std::size_t frame_at(double t_s) const;

@@ -1,6 +1,8 @@
 // The dashboard's ImGui layout.
 #include "ui/dashboard_view.hpp"
 
+#include "ui/bone_stress_pane.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -526,6 +528,12 @@ void draw_attempt(const AttemptDrillDown& d, DashboardSelection& sel) {
     if (d.recording) {
       draw_time_plots(d, sel);
       draw_replay(d, sel);
+      if (d.bone_stress) {
+        ImGui::Spacing();
+        draw_bone_stress_pane(*d.bone_stress, &sel.replay_t_s);
+      } else if (!d.bone_stress_note.empty()) {
+        ImGui::TextColored(ui_colors::kMuted, "No bone stress: %s", d.bone_stress_note.c_str());
+      }
     } else {
       ImGui::TextColored(ui_colors::kWarning, "No replay: %s", d.recording_error.c_str());
     }

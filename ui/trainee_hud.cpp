@@ -232,8 +232,15 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
   const bool finish = ImGui::Button("Finish attempt (Enter)");
   ImGui::SameLine();
   const bool reset = ImGui::Button("Reset camera (R)");
+  bool stress = false;
+  if (hud.stress_view_available) {
+    ImGui::SameLine();
+    bool on = hud.stress_view_on;
+    stress = ImGui::Checkbox("Bone stress (B)", &on);
+  }
   ImGui::End();
   if (actions) {
+    actions->toggle_stress_view = actions->toggle_stress_view || stress;
     actions->finish = actions->finish || finish;
     actions->reset_camera = actions->reset_camera || reset;
   }

@@ -46,6 +46,8 @@ struct HudModel {
   double haptic_rate_hz = 0.0;    ///< achieved haptic loop rate
   double target_rate_hz = 0.0;
   bool mouse_mode = false;        ///< the mouse drives the instrument (show the mapping)
+  bool stress_view_available = false;  ///< the scene models the bone: offer its stress view
+  bool stress_view_on = false;
   std::vector<HudAlert> alerts;   ///< most severe first
 };
 
@@ -59,6 +61,7 @@ HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summa
 struct HudActions {
   bool finish = false;        ///< "Finish attempt" pressed: score what was done
   bool reset_camera = false;
+  bool toggle_stress_view = false;  ///< "Bone stress" clicked
 };
 
 /// Draws the HUD for a display of `display` pixels. `actions` may be null.

@@ -14,9 +14,11 @@
 #include "ui/glfw_window.hpp"
 #include <GLFW/glfw3.h>
 
+#include "engine/anatomy/anatomy.hpp"
 #include "ui/display.hpp"
 #include "ui/imgui_gl_renderer.hpp"
 #include "ui/imgui_style.hpp"
+#include "ui/live_bone_stress.hpp"
 #include "ui/mouse_instrument.hpp"
 #include "ui/orbit_camera.hpp"
 #include "ui/png_writer.hpp"
@@ -92,7 +94,11 @@ struct TraineeView::Window {
   LiveView view;  ///< the newest live view (the last one once the attempt has ended)
   OrbitCamera orbit;
   bool camera_ready = false;
-  KeyEdge enter_key, reset_key;
+  KeyEdge enter_key, reset_key, stress_key;
+  bool stress_view = false;  ///< the bone stress view is on (key B or the Controls checkbox)
+  bool stress_key_pressed = false;
+  LiveBoneStress stress;
+  std::vector<std::uint64_t> bone_ids;  ///< the anatomy's vertebra meshes in the scene
 
   // One frame's state between begin_frame and end_frame.
   Clock::time_point frame_start;
@@ -130,6 +136,7 @@ struct TraineeView::Window {
     GLFWwindow* handle = window->handle();
     const bool keyboard_free = !io.WantCaptureKeyboard;
     if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) orbit.reset(scene.camera);
+    stress_key_pressed = keyboard_free && stress_key.pressed(handle, GLFW_KEY_B);
     enter = keyboard_free && (enter_key.pressed(handle, GLFW_KEY_ENTER) ||
                               enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
     return true;
@@ -200,6 +207,9 @@ bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputD
     w->mouse = std::make_unique<MouseInstrumentDevice>(scenario.world.instrument_start);
     w->device = w->mouse.get();
   }
+  if (const Anatomy* anatomy = world.anatomy())
+    for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5})
+      w->bone_ids.push_back(anatomy->vertebra(level).content_hash() | 1u);  // as scene_snapshot
   w->input_label = w->mouse ? "mouse and keyboard"
                             : (options_.input_label.empty() ? "device" : options_.input_label);
   // The first view straight from the world, before anything steps it.
@@ -212,6 +222,10 @@ InputDevice& TraineeView::device() { return *window_->device; }
 
 void TraineeView::watch(LiveAttempt& live) {
   Window& w = *window_;
+  if (options_.stress_view && live.bone_worker()) {
+    w.stress_view = true;
+    live.bone_worker()->set_field_wanted(true);
+  }
   bool screenshot_done = options_.screenshot.empty();
   for (;;) {
     GlfwWindow::poll_events();
@@ -224,8 +238,20 @@ void TraineeView::watch(LiveAttempt& live) {
     HudModel hud = make_hud_model(*w.scenario, w.world->summary(), w.view, live.haptic_stats(),
                                   w.input_label);
     hud.mouse_mode = w.mouse != nullptr;
+    BoneStressWorker* bone = live.bone_worker();
+    hud.stress_view_available = bone != nullptr;
+    hud.stress_view_on = w.stress_view;
     HudActions actions;
     draw_trainee_hud(hud, ImGui::GetIO().DisplaySize, &actions);
+    if (bone && (actions.toggle_stress_view || w.stress_key_pressed)) {
+      w.stress_view = !w.stress_view;
+      bone->set_field_wanted(w.stress_view);
+    }
+    if (bone && w.stress_view) {
+      w.stress.update(*bone);
+      w.stress.apply(w.scene, w.bone_ids);
+      w.stress.draw_legend(ImGui::GetIO().DisplaySize);
+    }
     if (actions.reset_camera)
       w.orbit.reset(snapshot_state(*w.world, w.view.state, w.aspect).camera);
     if ((actions.finish || w.enter) && !finished) {

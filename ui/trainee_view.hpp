@@ -26,6 +26,8 @@ struct TraineeViewOptions {
   /// Close the score screen by itself after this long (s); < 0: when the trainee closes it.
   double close_after_s = -1.0;
   bool vsync = true;
+  /// Start with the bone stress view on (the scene must model the bone; key B toggles it).
+  bool stress_view = false;
   std::string input_label;  ///< shown in the HUD ("udp:7000", "replay:demo.csv"); mouse: "mouse"
 };
 

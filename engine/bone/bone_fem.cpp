@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 namespace acdr {
 namespace {
@@ -77,8 +78,8 @@ std::unique_ptr<BoneFem> BoneFem::build(const TriangleMesh& surface, const Segme
   return bone;
 }
 
-void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out,
-                    bool nodal_fields) const {
+void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out, bool nodal_fields,
+                    const PartialSolve* partial) const {
   auto t0 = std::chrono::steady_clock::now();
   const std::size_t dofs = model_->dof_count(), nodes = mesh_.nodes.size(),
                     tets = mesh_.tets.size();
@@ -95,7 +96,7 @@ void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out,
       ++out.contacts_missed;
     }
   }
-  model_->solve(out.force_N, out.dof_displacement_m);
+  model_->solve(out.force_N, out.dof_displacement_m, out.workspace, partial);
   out.displacement_m.resize(nodes);
   for (std::size_t i = 0; i < nodes; ++i)
     out.displacement_m[i] = Vec3(out.dof_displacement_m[3 * i], out.dof_displacement_m[3 * i + 1],
@@ -105,6 +106,18 @@ void BoneFem::solve(std::span<const ContactLoad> contacts, BoneSolution& out,
   t0 = std::chrono::steady_clock::now();
   out.element_stress_Pa.resize(tets);
   out.element_von_mises_Pa.resize(tets);
+  if (partial) {
+    // Only the elements asked for; the rest are marked as not computed.
+    constexpr double kNotComputed = std::numeric_limits<double>::quiet_NaN();
+    out.element_stress_Pa.assign(tets, Stress6::Constant(kNotComputed));
+    out.element_von_mises_Pa.assign(tets, kNotComputed);
+    model_->element_stress(out.dof_displacement_m, partial->elements, out.element_stress_Pa);
+    for (std::uint32_t t : partial->elements)
+      out.element_von_mises_Pa[t] = von_mises(out.element_stress_Pa[t]);
+    out.node_von_mises_Pa.clear();
+    out.stress_seconds = seconds_since(t0);
+    return;
+  }
   model_->element_stress(out.dof_displacement_m, out.element_stress_Pa);
   for (std::size_t t = 0; t < tets; ++t)
     out.element_von_mises_Pa[t] = von_mises(out.element_stress_Pa[t]);

@@ -75,6 +75,7 @@ struct BoneSolution {
   std::vector<double> force_N, dof_displacement_m;
   std::vector<Stress6> node_stress_Pa;
   std::vector<std::uint32_t> faces;
+  ElasticSolveWorkspace workspace;
 };
 
 class BoneFem {
@@ -89,9 +90,13 @@ class BoneFem {
 
   /// Solves for the contacts (forces on the bone, N; positions on its surface, m). Without
   /// `nodal_fields` the per-node stresses (for drawing) are left out and node_von_mises_Pa is
-  /// emptied: what the metrics need costs less.
-  void solve(std::span<const ContactLoad> contacts, BoneSolution& out,
-             bool nodal_fields = true) const;
+  /// emptied: what the metrics need costs less. With `partial` (from
+  /// model().partial_solve_for) only its elements' stresses are computed, and only the
+  /// displacements they need: the other entries of displacement_m, element_stress_Pa and
+  /// element_von_mises_Pa are NaN, and nodal_fields is ignored. The computed ones equal a full
+  /// solve's bit for bit.
+  void solve(std::span<const ContactLoad> contacts, BoneSolution& out, bool nodal_fields = true,
+             const PartialSolve* partial = nullptr) const;
 
   const TetMesh& mesh() const { return mesh_; }  ///< regions set
   const BoneRegionLabels& labels() const { return labels_; }

@@ -4,8 +4,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 namespace acdr {
+namespace {
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+}  // namespace
 
 const char* bone_measure_name(BoneMeasure m) {
   switch (m) {
@@ -68,6 +78,15 @@ std::unique_ptr<BoneSegment> BoneSegment::build(const Anatomy& anatomy,
       return nullptr;
     }
   }
+  for (int v = 0; v < 2; ++v) {
+    std::vector<std::uint32_t> measured;
+    for (int m = 0; m < kBoneMeasureCount; ++m)
+      if (bone_measure_vertebra(static_cast<BoneMeasure>(m)) == v)
+        measured.insert(measured.end(), seg->elements_[m].begin(), seg->elements_[m].end());
+    std::sort(measured.begin(), measured.end());
+    measured.erase(std::unique(measured.begin(), measured.end()), measured.end());
+    seg->measured_[v] = seg->fem_[v]->model().partial_solve_for(measured);
+  }
   seg->build_seconds_ =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return seg;
@@ -92,7 +111,10 @@ BoneSampleResult BoneSegment::solve(double t_s, std::span<const BoneLoadPoint> l
     }
     if (!(sum >= config_.min_load_N) || scratch.contacts.empty()) continue;
     BoneSolution& sol = scratch.solution[v];
-    fem_[v]->solve(scratch.contacts, sol, scratch.nodal_fields);
+    const auto wall0 = std::chrono::steady_clock::now();
+    const double cpu0 = thread_cpu_seconds();
+    fem_[v]->solve(scratch.contacts, sol, scratch.nodal_fields,
+                   scratch.nodal_fields ? nullptr : &measured_[v]);
     r.solved[v] = true;
     for (int m = 0; m < kBoneMeasureCount; ++m) {
       const auto measure = static_cast<BoneMeasure>(m);
@@ -101,6 +123,8 @@ BoneSampleResult BoneSegment::solve(double t_s, std::span<const BoneLoadPoint> l
       for (std::uint32_t t : elements_[m]) peak = std::max(peak, sol.element_von_mises_Pa[t]);
       r.peak_Pa[m] = peak;
     }
+    r.cpu_s[v] = thread_cpu_seconds() - cpu0;
+    r.wall_s[v] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   }
   return r;
 }

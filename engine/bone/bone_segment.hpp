@@ -44,13 +44,17 @@ struct BoneSampleResult {
   std::array<double, kBoneMeasureCount> peak_Pa{};  ///< per BoneMeasure
   double load_N = 0.0;                              ///< sum of the load magnitudes
   std::array<bool, 2> solved{};                     ///< vertebra solved (loaded)
+  /// What each vertebra's solve took: CPU time of the solving thread and wall time (s).
+  std::array<double, 2> cpu_s{}, wall_s{};
 };
 
 /// Per-thread workspace of the solves (no allocation once warm).
 struct BoneSegmentScratch {
   std::array<BoneSolution, 2> solution;
   std::vector<ContactLoad> contacts;
-  /// Also the per-node stresses (for drawing); the metrics need only the elements'.
+  /// Everything, with the per-node stresses (for drawing). Off (the default): only the
+  /// measured elements' stresses and the displacements they need (BoneFem::solve's `partial`),
+  /// all the metrics read; the rest of the solutions is NaN.
   bool nodal_fields = false;
 };
 
@@ -71,6 +75,8 @@ class BoneSegment {
   const std::vector<std::uint32_t>& measure_elements(BoneMeasure m) const {
     return elements_[static_cast<int>(m)];
   }
+  /// The partial solve of vertebra v: the elements of its measures.
+  const PartialSolve& measured_solve(int v) const { return measured_[v]; }
   /// Seconds building took (meshing or cache, factorisation), both vertebrae.
   double build_seconds() const { return build_seconds_; }
 
@@ -78,6 +84,7 @@ class BoneSegment {
   BoneModelConfig config_;
   std::array<std::unique_ptr<BoneFem>, 2> fem_;
   std::array<std::vector<std::uint32_t>, kBoneMeasureCount> elements_;
+  std::array<PartialSolve, 2> measured_;  // per vertebra: the solve of its measured elements
   double build_seconds_ = 0.0;
 };
 

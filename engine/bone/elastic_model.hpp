@@ -1,7 +1,8 @@
 // Small-strain linear elasticity on a tetrahedral mesh: linear (4-node) or quadratic (10-node)
 // tetrahedra, isotropic material per element, zero-displacement supports per node and axis.
 // The stiffness matrix of the free degrees of freedom is assembled and factorised (sparse
-// Cholesky) once; each load is then one forward and one back substitution. After
+// Cholesky) once; each load is then one forward and one back substitution, of which a sparse
+// load and a few wanted displacements need only a part (PartialSolve). After
 // construction the model is immutable: `solve` and the stress functions are const and keep no
 // state, so one model can serve a solver thread (or several) while its owner does other work.
 //
@@ -66,6 +67,24 @@ enum : std::uint8_t { kFixX = 1, kFixY = 2, kFixZ = 4, kFixAll = 7 };
 enum class SparseSolverKind : std::uint8_t { kCholmod, kEigenLLT };
 const char* sparse_solver_name(SparseSolverKind kind);  ///< "cholmod" / "eigen-llt"
 
+/// Scratch of a solve, kept by the caller between solves (one per solving thread): with it a
+/// solve allocates nothing once warm.
+struct ElasticSolveWorkspace {
+  std::vector<double> y;  ///< in the factor's (permuted) numbering
+};
+
+/// Which displacements and stresses a solve must produce when not all of them: what the bone's
+/// metrics read is a few hundred elements, and a solve that needs only those skips most of the
+/// back substitution (see ElasticModel::partial_solve_for).
+struct PartialSolve {
+  /// Per column of the factor: its unknown is computed (the wanted ones and every unknown the
+  /// back substitution reaches from them, their elimination-tree ancestors).
+  std::vector<std::uint8_t> column_needed;
+  std::vector<std::uint32_t> elements;  ///< elements whose stress is wanted
+  std::size_t needed_columns = 0;
+  std::size_t needed_factor_nonzeros = 0;  ///< of the factor, in the needed columns
+};
+
 /// What building the model took.
 struct ElasticBuildReport {
   std::size_t nodes = 0, elements = 0, free_dofs = 0, fixed_dofs = 0;
@@ -99,9 +118,21 @@ class ElasticModel {
   /// degrees of freedom are taken by the supports). Both spans have dof_count() entries.
   /// Safe from any thread: each call has its own solver workspace.
   void solve(std::span<const double> force_N, std::span<double> displacement_m) const;
+  /// The same with the caller's workspace (no allocation once warm). With `partial`, only the
+  /// displacements of the nodes of partial->elements are computed (the others are NaN); they
+  /// equal the full solve's bit for bit. The substitutions are our own over CHOLMOD's factor:
+  /// the forward one skips the columns a sparse load does not reach (their entry is zero), the
+  /// backward one the columns `partial` does not need. Eigen's factor ignores `partial`.
+  void solve(std::span<const double> force_N, std::span<double> displacement_m,
+             ElasticSolveWorkspace& workspace, const PartialSolve* partial = nullptr) const;
+  /// The plan of a solve wanting the stresses of `elements` (see solve).
+  PartialSolve partial_solve_for(std::span<const std::uint32_t> elements) const;
 
   /// Stress at each element's centroid (T entries).
   void element_stress(std::span<const double> displacement_m, std::span<Stress6> out) const;
+  /// The same for the listed elements only (the others in `out` are left as they are).
+  void element_stress(std::span<const double> displacement_m,
+                      std::span<const std::uint32_t> elements, std::span<Stress6> out) const;
   /// Stress at the mesh's corner nodes, averaged over the elements around each, weighted by
   /// volume (corner_count entries): the field for drawing. `element` is element_stress's
   /// result for the same displacement.
@@ -127,6 +158,7 @@ class ElasticModel {
   std::vector<double> corner_volume_;        // corners: volume of the elements around, m^3
   std::vector<Eigen::Matrix<double, 4, 3>> grad_lambda_;  // T: gradients of the barycentrics
   std::vector<int> free_index_;                           // 3 * FE nodes
+  std::vector<std::uint32_t> dof_of_column_;  // CHOLMOD: the dof of each factor column
   std::unique_ptr<Factor> factor_;
   ElasticBuildReport report_;
   std::string error_;

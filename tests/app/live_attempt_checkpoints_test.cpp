@@ -30,6 +30,7 @@ struct SinkLog {
   std::vector<double> call_t;              ///< each call's t_s
   std::vector<std::size_t> first_new;      ///< each call's first_new_frame
   std::vector<std::size_t> events;         ///< new events per call
+  std::vector<double> bone;                ///< times of the new bone samples, all calls
   std::thread::id thread;
 
   void add(const CheckpointView& v) {
@@ -41,6 +42,8 @@ struct SinkLog {
     call_t.push_back(v.t_s);
     first_new.push_back(v.first_new_frame);
     events.push_back(v.record.events.size() - v.first_new_event);
+    for (std::size_t i = v.first_new_bone_sample; i < v.record.bone_loads.size(); ++i)
+      bone.push_back(v.record.bone_loads[i].t_s);
     thread = std::this_thread::get_id();
   }
   std::size_t count() {
@@ -65,6 +68,12 @@ void add_frames(AttemptRecording& r, int n) {
     Frame f;
     f.t_s = static_cast<double>(r.frames.size() + 1) * 1e-3;
     r.frames.push_back(f);
+    // A bone load sample every 10 frames, as a scene with the bone model takes them.
+    if (r.frames.size() % 10 == 0) {
+      BoneLoadRecord& b = r.bone_loads.emplace_back();
+      b.t_s = f.t_s;
+      b.points.resize(2);
+    }
   }
 }
 
@@ -109,6 +118,11 @@ TEST(LiveAttemptCheckpoints, ABusyWriterDefersTheHandOverAndNothingIsLost) {
   std::vector<double> expected;
   for (const Frame& f : record.frames) expected.push_back(f.t_s);
   EXPECT_EQ(log.all(), expected);
+  // The bone's load samples went the same way: each once, in order, none lost.
+  std::vector<double> bone;
+  for (const BoneLoadRecord& b : record.bone_loads) bone.push_back(b.t_s);
+  EXPECT_EQ(bone.size(), 35u);
+  EXPECT_EQ(log.bone, bone);
   ASSERT_EQ(log.calls.size(), 3u);
   EXPECT_EQ(log.calls[0].size(), 100u);
   EXPECT_EQ(log.calls[1].size(), 100u);

@@ -63,14 +63,27 @@ TEST_F(CheckpointWriterTest, PiecesFromAGrowingRecordReadBackAsThatRecord) {
   growing.summary = whole.summary;
   std::ostringstream err;
   CheckpointWriter writer(db, id, err);
-  std::size_t first_frame = 0, first_event = 0;
+  std::size_t first_frame = 0, first_event = 0, first_bone = 0;
   for (std::size_t end : {100u, 101u, 320u}) {
     growing.frames.assign(whole.frames.begin(), whole.frames.begin() + static_cast<long>(end));
     if (end == 320u)
       growing.events.push_back(Event{0.31, EventKind::kZoneWarning, 0.0019, "artery", 0});
-    ASSERT_TRUE(writer.write(growing, first_frame, first_event, growing.frames.back().t_s));
+    // A bone load sample every 10 frames (10 ms), as a scene with the bone model takes them.
+    while (growing.bone_loads.size() < end / 10) {
+      BoneLoadRecord& b = growing.bone_loads.emplace_back();
+      b.t_s = 0.01 * static_cast<double>(growing.bone_loads.size());
+      BoneLoadPoint p;
+      p.point_m = Eigen::Vector3f(0.001f, -0.003f, static_cast<float>(b.t_s) * 0.01f);
+      p.force_N = Eigen::Vector3f(0.0f, -0.5f * static_cast<float>(b.t_s), 0.1f);
+      p.vertebra = 1;
+      p.source = BoneLoadSource::kNucleus;
+      b.points.assign(growing.bone_loads.size() % 3, p);
+    }
+    ASSERT_TRUE(writer.write(growing, first_frame, first_event, first_bone,
+                             growing.frames.back().t_s));
     first_frame = growing.frames.size();
     first_event = growing.events.size();
+    first_bone = growing.bone_loads.size();
   }
   EXPECT_EQ(writer.saved(), 3);
   EXPECT_TRUE(err.str().empty()) << err.str();
@@ -90,6 +103,17 @@ TEST_F(CheckpointWriterTest, PiecesFromAGrowingRecordReadBackAsThatRecord) {
   }
   ASSERT_EQ(decoded->events.size(), 1u);
   EXPECT_EQ(decoded->events[0].kind, EventKind::kZoneWarning);
+  // The bone's load samples came with the pieces, each once and in order: the stress history
+  // of an attempt that never finished can be solved again.
+  ASSERT_EQ(decoded->bone_loads.size(), 32u);
+  for (std::size_t i = 0; i < 32; ++i) {
+    ASSERT_EQ(decoded->bone_loads[i].t_s, growing.bone_loads[i].t_s) << i;
+    ASSERT_EQ(decoded->bone_loads[i].points.size(), growing.bone_loads[i].points.size()) << i;
+    for (std::size_t k = 0; k < growing.bone_loads[i].points.size(); ++k) {
+      EXPECT_EQ(decoded->bone_loads[i].points[k].force_N, growing.bone_loads[i].points[k].force_N);
+      EXPECT_EQ(decoded->bone_loads[i].points[k].vertebra, 1);
+    }
+  }
   // The stored metrics are those of the record so far, and of what reads back.
   EXPECT_EQ(a.metrics.values, compute_metrics(growing).values);
   EXPECT_EQ(a.metrics.values, compute_metrics(*decoded).values);
@@ -105,8 +129,8 @@ TEST_F(CheckpointWriterTest, ARefusedCheckpointIsNotSavedAndWarnsOnce) {
   std::ostringstream err;
   CheckpointWriter writer(db, id, err);
   const AttemptRecording r = moving_tip(50);
-  EXPECT_FALSE(writer.write(r, 0, 0, 0.05));
-  EXPECT_FALSE(writer.write(r, 0, 0, 0.05));
+  EXPECT_FALSE(writer.write(r, 0, 0, 0, 0.05));
+  EXPECT_FALSE(writer.write(r, 0, 0, 0, 0.05));
   EXPECT_EQ(writer.saved(), 0);
   const std::string text = err.str();
   EXPECT_NE(text.find("warning: checkpoint not saved"), std::string::npos) << text;

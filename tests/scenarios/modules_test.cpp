@@ -81,7 +81,9 @@ TEST(BundledModules, DoingNothingScoresNothingOnSafety) {
     // Only the removal term is left, far below the experts (the box's 0 is 3 SDs short: 20).
     EXPECT_LT(s.score, 10.5) << module;
     for (const TermScore& t : s.terms)
-      if (t.safety) EXPECT_EQ(t.score, 0.0) << module << ": " << t.metric;
+      if (t.safety) {
+        EXPECT_EQ(t.score, 0.0) << module << ": " << t.metric;
+      }
   }
 }
 

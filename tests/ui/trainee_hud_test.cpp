@@ -262,8 +262,9 @@ TEST(TraineeHud, ScoreScreenNamesTheZoneAndExplainsTheScale) {
   Image im{w, h, {}};
   ASSERT_TRUE(ui->render(nullptr, [&] { draw_score_screen(s, ImVec2(w, h)); }, &im.rgb, &error));
   EXPECT_GT(im.fraction(is_alert_red), 0.0005);
-  if (const char* out = std::getenv("ACDR_TEST_SCREENSHOTS"))
+  if (const char* out = std::getenv("ACDR_TEST_SCREENSHOTS")) {
     EXPECT_TRUE(write_png_rgb(std::string(out) + "/score_screen_zone.png", w, h, im.rgb, &error)) << error;
+  }
 }
 
 }  // namespace

@@ -35,8 +35,12 @@ TEST(VertebraGenerator, BothVertebraeAreClosedSolids) {
     // which rise beside the disc.
     Vec3 lo, hi;
     m.bounds(&lo, &hi);
-    if (level == VertebraLevel::kC4) EXPECT_GT(lo.y(), -0.5 * p.disc_height_m - 12 * kMm);
-    if (level == VertebraLevel::kC5) EXPECT_LT(hi.y(), 0.5 * p.disc_height_m + 12 * kMm);
+    if (level == VertebraLevel::kC4) {
+      EXPECT_GT(lo.y(), -0.5 * p.disc_height_m - 12 * kMm);
+    }
+    if (level == VertebraLevel::kC5) {
+      EXPECT_LT(hi.y(), 0.5 * p.disc_height_m + 12 * kMm);
+    }
   }
 }
 

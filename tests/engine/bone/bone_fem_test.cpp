@@ -51,8 +51,9 @@ TEST_F(C5Model, BuildReportsRegionsSupportsAndFactor) {
   // Supports lie on the far (lower) side only.
   const double bottom = bone_->body().center_m.y() - bone_->body().half_height_m;
   for (std::size_t i = 0; i < bone_->mesh().nodes.size(); ++i)
-    if (bone_->supports()[i])
+    if (bone_->supports()[i]) {
       EXPECT_LE(bone_->mesh().nodes[i].y(), bottom + bone_->config().support_depth_m + 1e-12);
+    }
 }
 
 TEST_F(C5Model, EndplatePushMovesTheEndplateDownAndIsLinear) {
@@ -73,7 +74,9 @@ TEST_F(C5Model, EndplatePushMovesTheEndplateDownAndIsLinear) {
   EXPECT_LT(down, 100e-6);
   // Supports do not move.
   for (std::size_t i = 0; i < bone_->mesh().nodes.size(); ++i)
-    if (bone_->supports()[i]) EXPECT_EQ(a.displacement_m[i].norm(), 0.0);
+    if (bone_->supports()[i]) {
+      EXPECT_EQ(a.displacement_m[i].norm(), 0.0);
+    }
   // Twice the force, twice everything (linear elasticity).
   const ContactLoad twice = endplate_push(40.0);
   bone_->solve({&twice, 1}, b);
@@ -163,8 +166,9 @@ TEST(BoneFem, ImportedMeshGoesTheSameWay) {
   // C4's supports are on its upper side.
   const double top = bone->body().center_m.y() + bone->body().half_height_m;
   for (std::size_t i = 0; i < bone->mesh().nodes.size(); ++i)
-    if (bone->supports()[i])
+    if (bone->supports()[i]) {
       EXPECT_GE(bone->mesh().nodes[i].y(), top - config.support_depth_m - 1e-12);
+    }
 }
 
 TEST(BoneFem, OpenSurfaceIsAReturnedError) {

@@ -76,10 +76,11 @@ TEST_F(C5Regions, EveryRegionIsPresentWhereAnatomyPutsIt) {
   EXPECT_LT(shell_volume, 0.6e-3 * body_area);
   // Depths: zero on the surface, positive inside, capped.
   for (std::size_t i = 0; i < m.nodes.size(); ++i) {
-    if (surface.on_surface()[i])
+    if (surface.on_surface()[i]) {
       EXPECT_EQ(labels.node_depth_m[i], 0.0);
-    else
+    } else {
       EXPECT_GT(labels.node_depth_m[i], 0.0);
+    }
     EXPECT_LE(labels.node_depth_m[i], labels.depth_cap_m);
   }
 }

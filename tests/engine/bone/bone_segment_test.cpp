@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "engine/bone/bone_stress_history.hpp"
 #include "tests/engine/anatomy/coarse_segment_scene.hpp"
 
@@ -89,6 +91,39 @@ TEST_F(Segment, PushOnC5StressesC5OnlyAndLinearly) {
   const BoneSampleResult c = bone_->solve(0.03, tiny, scratch);
   EXPECT_FALSE(c.solved[0] || c.solved[1]);
   for (double p : c.peak_Pa) EXPECT_EQ(p, 0.0);
+}
+
+TEST_F(Segment, MeasuredSolveEqualsTheFullSolveBitForBitAndSkipsPartOfTheFactor) {
+  // Pushes on both vertebrae; the metrics' solve (partial: the measured elements only) against
+  // the drawing's (everything, with nodal stresses).
+  BoneLoadPoint c4 = c5_push(8.0f);
+  c4.vertebra = 0;
+  c4.point_m.y() = static_cast<float>(anatomy_->landmarks().c4_lower_endplate_y_m);
+  c4.force_N = Eigen::Vector3f(0.0f, 8.0f, 0.0f);
+  const BoneLoadPoint loads[] = {c5_push(12.0f), c4};
+  BoneSegmentScratch partial, full;
+  full.nodal_fields = true;
+  const BoneSampleResult a = bone_->solve(0.01, loads, partial);
+  const BoneSampleResult b = bone_->solve(0.01, loads, full);
+  ASSERT_TRUE(a.solved[0] && a.solved[1]);
+  EXPECT_EQ(a.peak_Pa, b.peak_Pa);
+  for (int v = 0; v < 2; ++v) {
+    const PartialSolve& plan = bone_->measured_solve(v);
+    EXPECT_GT(plan.needed_columns, 0u);
+    EXPECT_LT(plan.needed_factor_nonzeros,
+              bone_->vertebra(v).model().report().factor_nonzeros);
+    for (std::uint32_t t : plan.elements) {
+      EXPECT_EQ(partial.solution[v].element_von_mises_Pa[t], full.solution[v].element_von_mises_Pa[t]);
+      for (std::uint32_t n : bone_->vertebra(v).mesh().tets[t])
+        EXPECT_EQ(partial.solution[v].displacement_m[n], full.solution[v].displacement_m[n]);
+    }
+    // What the partial solve did not compute says so.
+    std::size_t not_computed = 0;
+    for (double s : partial.solution[v].element_von_mises_Pa) not_computed += std::isnan(s);
+    EXPECT_EQ(not_computed, partial.solution[v].element_von_mises_Pa.size() - plan.elements.size());
+    EXPECT_TRUE(partial.solution[v].node_von_mises_Pa.empty());
+    EXPECT_EQ(full.solution[v].node_von_mises_Pa.size(), bone_->vertebra(v).mesh().nodes.size());
+  }
 }
 
 TEST_F(Segment, HistorySumsPeaksAndTimeAboveWarningTheSameWayEachTime) {

@@ -86,7 +86,9 @@ TEST_P(ElasticOrders, SparseSolveAgreesWithADenseSolve) {
   for (std::size_t r = 0; r < free.size(); ++r)
     EXPECT_NEAR(u[free[r]], dense[r], 1e-9 * dense.cwiseAbs().maxCoeff());
   for (int i = 0; i < dofs; ++i)
-    if (model.free_index()[i] < 0) EXPECT_EQ(u[i], 0.0);
+    if (model.free_index()[i] < 0) {
+      EXPECT_EQ(u[i], 0.0);
+    }
   // Energy: 0.5 u.K.u equals half the work of the free forces.
   double work = 0.0;
   for (int i : free) work += force[i] * u[i];

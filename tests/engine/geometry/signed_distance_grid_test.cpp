@@ -52,8 +52,12 @@ TEST(SignedDistanceGrid, SphereDistancesSignsAndNormals) {
     const double exact = brute_distance(m, p);
     const double d = g.distance(p);
     // The polyhedron lies within 0.05 mm inside the sphere: signs are clear away from it.
-    if (r < 3.8 * kMm) EXPECT_LT(d, 0.0) << format_point_mm(p);
-    if (r > 4.1 * kMm) EXPECT_GT(d, 0.0) << format_point_mm(p);
+    if (r < 3.8 * kMm) {
+      EXPECT_LT(d, 0.0) << format_point_mm(p);
+    }
+    if (r > 4.1 * kMm) {
+      EXPECT_GT(d, 0.0) << format_point_mm(p);
+    }
     // Trilinear interpolation of the exact distance: errors a fraction of a cell.
     EXPECT_NEAR(std::abs(d), exact, 0.3 * params.spacing_m) << format_point_mm(p);
     if (std::abs(r - 4 * kMm) < 0.5 * kMm) {
