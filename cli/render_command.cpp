@@ -178,8 +178,10 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
   if (!options.stress_loads.empty() || !options.recording.empty() || options.attempt != 0)
     return render_stress(options, *loaded.model, out, err);
   const World world(loaded.model->world);
+  SnapshotOptions drawing;
+  drawing.drawing = options.beads ? MaterialDrawing::kBeads : MaterialDrawing::kSurfaces;
   const RenderScene scene = snapshot_world(
-      world, static_cast<float>(options.width) / static_cast<float>(options.height));
+      world, static_cast<float>(options.width) / static_cast<float>(options.height), {}, drawing);
   std::string error;
   if (!render_to_png(scene, options.width, options.height, options.png, &error)) {
     err << options.png << ": " << error << "\n";

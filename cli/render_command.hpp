@@ -25,6 +25,8 @@ struct RenderOptions {
   std::string db;
   double at_s = -1.0;  ///< < 0: the attempt's moment of peak bone load
   double stress_max_MPa = 0.0;  ///< top of the colour bar; 0: the peak, rounded up
+  /// Draw the particle materials as beads (a debug view of the particles) instead of surfaces.
+  bool beads = false;
 };
 
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err);

@@ -92,7 +92,9 @@ struct TraineeView::Window {
   LiveView view;  ///< the newest live view (the last one once the attempt has ended)
   OrbitCamera orbit;
   bool camera_ready = false;
-  KeyEdge enter_key, reset_key;
+  KeyEdge enter_key, reset_key, beads_key;
+  SnapshotOptions drawing;        ///< surfaces or beads (key B)
+  MaterialSurfaceCache surfaces;  ///< material surfaces kept while their particles rest
 
   // One frame's state between begin_frame and end_frame.
   Clock::time_point frame_start;
@@ -113,7 +115,8 @@ struct TraineeView::Window {
     fb_w = std::max(fb_w, 1);
     fb_h = std::max(fb_h, 1);
     aspect = static_cast<float>(fb_w) / static_cast<float>(fb_h);
-    scene = snapshot_state(*world, view.state, aspect);
+    drawing.cache = &surfaces;
+    scene = snapshot_state(*world, view.state, aspect, {}, drawing);
     if (!camera_ready) {
       orbit.reset(scene.camera);
       camera_ready = true;
@@ -130,6 +133,10 @@ struct TraineeView::Window {
     GLFWwindow* handle = window->handle();
     const bool keyboard_free = !io.WantCaptureKeyboard;
     if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) orbit.reset(scene.camera);
+    if (keyboard_free && beads_key.pressed(handle, GLFW_KEY_B)) {
+      drawing.drawing = drawing.drawing == MaterialDrawing::kBeads ? MaterialDrawing::kSurfaces
+                                                                   : MaterialDrawing::kBeads;
+    }
     enter = keyboard_free && (enter_key.pressed(handle, GLFW_KEY_ENTER) ||
                               enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
     return true;
@@ -200,6 +207,7 @@ bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputD
     w->mouse = std::make_unique<MouseInstrumentDevice>(scenario.world.instrument_start);
     w->device = w->mouse.get();
   }
+  if (options_.beads) w->drawing.drawing = MaterialDrawing::kBeads;
   w->input_label = w->mouse ? "mouse and keyboard"
                             : (options_.input_label.empty() ? "device" : options_.input_label);
   // The first view straight from the world, before anything steps it.

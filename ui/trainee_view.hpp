@@ -27,6 +27,8 @@ struct TraineeViewOptions {
   double close_after_s = -1.0;
   bool vsync = true;
   std::string input_label;  ///< shown in the HUD ("udp:7000", "replay:demo.csv"); mouse: "mouse"
+  /// Start with the particle materials drawn as beads (a debug view); key B toggles.
+  bool beads = false;
 };
 
 class TraineeView final : public AttemptView {
