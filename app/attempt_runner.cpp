@@ -108,6 +108,13 @@ AttemptRun AttemptStepper::finish(double wall_s) {
   run_.record.events.push_back(
       Event{world_.time_s(), EventKind::kAttemptEnd, 0.0, attempt_end_name(run_.end)});
   run_.record.summary = world_.summary();
+  // Where the removed material lies at the end, for the lump metrics.
+  auto& removed = run_.record.removed_positions.emplace();
+  if (const Nucleus* nucleus = world_.nucleus()) {
+    const auto positions = nucleus->positions();
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      if (world_.is_removed(i)) removed.push_back(positions[i].cast<float>());
+  }
   run_.metrics = compute_metrics(run_.record);
   if (bone_) {
     run_.bone_modelled = true;

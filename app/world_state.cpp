@@ -10,6 +10,7 @@ void capture_world_state(const World& world, WorldState& out) {
   if (!nucleus) {
     out.positions.clear();
     out.particle_class.clear();
+    out.material.clear();
     return;
   }
   const WorldConfig& config = world.config();
@@ -17,6 +18,7 @@ void capture_world_state(const World& world, WorldState& out) {
   const auto materials = nucleus->materials();
   out.positions.resize(positions.size());
   out.particle_class.resize(positions.size());
+  out.material.assign(materials.begin(), materials.end());
   for (std::size_t i = 0; i < positions.size(); ++i) {
     out.positions[i] = positions[i].cast<float>();
     const bool target = materials[i] < config.nucleus.materials.size() &&

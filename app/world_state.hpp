@@ -20,6 +20,7 @@ struct WorldState {
   std::vector<Collider> instrument;            ///< instrument colliders at the frame's pose
   std::vector<Eigen::Vector3f> positions;      ///< particle positions (m)
   std::vector<ParticleClass> particle_class;   ///< one per particle
+  std::vector<std::uint8_t> material;          ///< one per particle: index into the materials
 };
 
 /// Copies the moving state of `world` into `out` (on the stepping thread).

@@ -39,6 +39,17 @@ const std::vector<MetricInfo>& metric_catalog() {
   return kCatalog;
 }
 
+const std::vector<MetricInfo>& lump_metric_catalog() {
+  static const std::vector<MetricInfo> kCatalog = {
+      {"removed_lump_fraction",
+       "share of the removed particles in lumps (clusters of 10 or more) at the end"},
+      {"removed_clusters", "clusters the removed particles form at the end (single ones too)"},
+      {"removed_lumps", "clusters of 10 or more removed particles at the end"},
+      {"removed_largest_cluster", "particles in the largest cluster of removed material"},
+  };
+  return kCatalog;
+}
+
 const std::vector<MetricInfo>& bone_metric_catalog() {
   static const std::vector<MetricInfo> kCatalog = {
       {"endplate_c4_peak_stress_MPa",
@@ -67,6 +78,7 @@ const std::vector<std::string>& known_metric_names() {
   static const std::vector<std::string> kNames = [] {
     std::vector<std::string> names;
     for (const MetricInfo& m : metric_catalog()) names.push_back(m.name);
+    for (const MetricInfo& m : lump_metric_catalog()) names.push_back(m.name);
     for (const MetricInfo& m : bone_metric_catalog()) names.push_back(m.name);
     return names;
   }();

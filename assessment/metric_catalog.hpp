@@ -3,6 +3,8 @@
 //
 // Two kinds of names:
 // - fixed names, produced for every attempt (metric_catalog());
+// - the lump metrics of the removed material, produced when the record holds where it lies at
+//   the end (every attempt run since it is kept; lump_metric_catalog());
 // - per-danger-zone names "zone.<zone-id>.<quantity>", produced for each zone of the scene
 //   (zone_metric_catalog() lists the quantities). The zone id is the zone's name made safe:
 //   zone_metric_ids().
@@ -22,6 +24,10 @@ struct MetricInfo {
 /// Every fixed metric compute_metrics() produces, in its output order.
 const std::vector<MetricInfo>& metric_catalog();
 
+/// How the removed material left (assessment/removed_lumps.hpp), produced in this order after
+/// the zones' metrics when the record has the removed particles' end positions.
+const std::vector<MetricInfo>& lump_metric_catalog();
+
 /// The bone-stress metrics, produced (in this order, after the fixed ones) only for a scene
 /// whose bone is modelled as finite-element vertebrae (assessment/bone_metrics.hpp).
 const std::vector<MetricInfo>& bone_metric_catalog();
@@ -29,7 +35,8 @@ const std::vector<MetricInfo>& bone_metric_catalog();
 /// Whether `name` is one of bone_metric_catalog().
 bool is_bone_metric_name(const std::string& name);
 
-/// The names a rubric may use by name: the fixed ones, then the bone ones, in catalogue order.
+/// The names a rubric may use by name: the fixed ones, the lump ones, then the bone ones, in
+/// catalogue order.
 const std::vector<std::string>& known_metric_names();
 
 /// The per-zone quantities, in output order (name = the <quantity> part, e.g. "peak_force_N").

@@ -2,9 +2,11 @@
 #include "assessment/metrics.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "assessment/metric_catalog.hpp"
+#include "assessment/removed_lumps.hpp"
 
 namespace acdr {
 
@@ -178,6 +180,16 @@ Metrics compute_metrics(const AttemptRecording& record) {
   m.set("force_clamped_events", clamped);
   m.set("numerical_events", numerical);
   add_zone_metrics(record, m);
+  // How the removed material left, in lumps or scattered: after the zones' metrics, and only
+  // when the record has where it lies at the end (lump_metric_catalog()).
+  if (record.removed_positions) {
+    const double spacing = std::cbrt(s.particle_volume_m3);
+    const LumpStats lumps = removed_lumps(*record.removed_positions, kLumpLinkSpacings * spacing);
+    m.set("removed_lump_fraction", lumps.lump_fraction());
+    m.set("removed_clusters", lumps.clusters);
+    m.set("removed_lumps", lumps.lumps);
+    m.set("removed_largest_cluster", lumps.largest);
+  }
   return m;
 }
 

@@ -14,6 +14,7 @@ constexpr std::uint64_t kMaxCount = 1ull << 28;  // refuses absurd counts from d
 constexpr std::uint8_t kFramesTag = 'F';
 constexpr std::uint8_t kEventsTag = 'E';
 constexpr std::uint8_t kBoneLoadsTag = 'B';
+constexpr std::uint8_t kRemovedTag = 'R';
 
 static_assert(std::endian::native == std::endian::little,
               "recordings are little-endian; a big-endian port needs byte swaps here");
@@ -336,6 +337,19 @@ bool decode_bone_block(Reader& rd, std::vector<BoneLoadRecord>& out, const char*
   return true;
 }
 
+bool decode_removed_block(Reader& rd, std::optional<std::vector<Eigen::Vector3f>>& out,
+                          const char** why) {
+  std::uint32_t n = 0;
+  if (!rd.get(n)) return *why = "truncated removed material block", false;
+  if (static_cast<std::uint64_t>(n) * 12 > rd.left()) return *why = "bad removed particle count", false;
+  if (out) return *why = "two removed material blocks", false;
+  out.emplace(n);
+  for (Eigen::Vector3f& p : *out)
+    if (!(rd.get(p.x()) && rd.get(p.y()) && rd.get(p.z())))
+      return *why = "truncated removed material", false;
+  return true;
+}
+
 std::optional<AttemptRecording> decode_v2(Reader& rd, std::size_t size, const char** why) {
   AttemptRecording r;
   WorldSummary& s = r.summary;
@@ -360,6 +374,7 @@ std::optional<AttemptRecording> decode_v2(Reader& rd, std::size_t size, const ch
     const bool ok = tag == kFramesTag      ? decode_frame_block(block, r.frames, why)
                     : tag == kEventsTag    ? decode_event_block(block, r.events, why)
                     : tag == kBoneLoadsTag ? decode_bone_block(block, r.bone_loads, why)
+                    : tag == kRemovedTag   ? decode_removed_block(block, r.removed_positions, why)
                                            : (*why = "unknown block", false);
     if (!ok) return std::nullopt;
     if (block.pos != payload) return *why = "trailing bytes in a block", std::nullopt;
@@ -468,6 +483,15 @@ void append_bone_load_block(std::span<const BoneLoadRecord> samples,
   close_block(at, out);
 }
 
+void append_removed_block(std::span<const Eigen::Vector3f> positions,
+                          std::vector<std::uint8_t>& out) {
+  const std::size_t at = open_block(kRemovedTag, out);
+  Writer w(out);
+  w.put(static_cast<std::uint32_t>(positions.size()));
+  for (const Eigen::Vector3f& p : positions) w.put(p.x()), w.put(p.y()), w.put(p.z());
+  close_block(at, out);
+}
+
 std::vector<std::uint8_t> encode_recording(const AttemptRecording& r) {
   std::vector<std::uint8_t> out = encode_recording_header(r.summary);
   const std::span<const Frame> frames(r.frames);
@@ -475,6 +499,7 @@ std::vector<std::uint8_t> encode_recording(const AttemptRecording& r) {
     append_frame_block(frames.subspan(i, std::min(kRecordingBlockFrames, frames.size() - i)), out);
   append_event_block(r.events, out);
   append_bone_load_block(r.bone_loads, out);
+  if (r.removed_positions) append_removed_block(*r.removed_positions, out);
   return out;
 }
 

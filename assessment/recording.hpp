@@ -22,6 +22,8 @@
 //               f32 force x y z (N), f32 patch radius (m), u8 vertebra (0 C4, 1 C5), u8
 //               source (0 instrument, 1 nucleus). Single precision is what the live solves
 //               used, so the bone metrics re-compute exactly.
+//           'R' removed material (once, at the end of an attempt): u32 count, per removed
+//               particle f32 x y z (m), in particle order; what the lump metrics read.
 //   The header and blocks concatenate: a recording can be written piece by piece (periodic
 //   checkpoints of a running attempt) and any prefix that ends on a block boundary decodes.
 // Format "acdr-frames-v1" (magic "ACDRREC1", row by row, no zones) is still read.
@@ -47,7 +49,8 @@ inline constexpr const char* kRecordingFormatV1 = "acdr-frames-v1";
 bool is_known_recording_format(std::string_view format);
 
 /// The whole recording: header, frames in blocks of up to kRecordingBlockFrames, one block of
-/// all events, one block of all bone load samples (when there are any).
+/// all events, one block of all bone load samples (when there are any), the removed material
+/// (when the record has it).
 std::vector<std::uint8_t> encode_recording(const AttemptRecording& record);
 
 /// Frames per 'F' block written by encode_recording (about 4 s at 1 kHz).
@@ -63,6 +66,11 @@ void append_event_block(std::span<const Event> events, std::vector<std::uint8_t>
 /// Appends one 'B' block with `samples` (nothing when empty).
 void append_bone_load_block(std::span<const BoneLoadRecord> samples,
                             std::vector<std::uint8_t>& out);
+
+/// Appends the 'R' block: where the removed particles lie at the end (written even when empty,
+/// so "nothing removed" differs from "not recorded").
+void append_removed_block(std::span<const Eigen::Vector3f> positions,
+                          std::vector<std::uint8_t>& out);
 
 /// The v1 layout, kept so reading old recordings stays tested and sizes can be compared.
 std::vector<std::uint8_t> encode_recording_v1(const AttemptRecording& record);

@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--png", run.png, "Write a picture of the final frame");
   run_cmd->add_option("--record", run.record, "Also write the attempt's recording to a file");
   run_cmd->add_flag("--json", run.json, "Print the result as JSON on stdout");
+  run_cmd->add_flag("--beads", run.beads,
+                    "Draw the nucleus, annulus and cartilage as their particles (beads), a "
+                    "debug view, instead of surfaces (window and --png)");
   run_cmd->add_flag("--headless", run.headless,
                     "No window (default: a window when a display exists)");
   run_cmd->add_option("--device-timeout", run.device_timeout_s,
@@ -214,6 +217,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--view", render.view,
                          "Anatomy: surgeon (default), anterior or lateral (the whole segment)");
   render_cmd->add_flag("--labels", render.labels, "Name the parts on the picture (anterior, lateral)");
+  render_cmd->add_flag("--beads", render.beads,
+                       "Draw the particle materials as beads (a debug view) instead of surfaces");
   render_cmd->add_option("--stress-load", render.stress_loads,
                          "Draw the bone's stress under this load instead: x,y,z,fx,fy,fz (mm, N, "
                          "segment frame, force on the bone); repeat for several");

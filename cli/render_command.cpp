@@ -187,7 +187,9 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
   const float aspect = static_cast<float>(options.width) / static_cast<float>(options.height);
   SceneStyle style;
   if (view != AnatomyView::kSurgeon) style.draw_instrument = style.draw_walls = false;  // the anatomy alone
-  RenderScene scene = snapshot_world(world, aspect, style);
+  SnapshotOptions drawing;
+  drawing.drawing = options.beads ? MaterialDrawing::kBeads : MaterialDrawing::kSurfaces;
+  RenderScene scene = snapshot_world(world, aspect, style, drawing);
   if (view != AnatomyView::kSurgeon) {
     if (!world.anatomy()) {
       err << options.scenario << ": --view " << options.view

@@ -30,6 +30,8 @@ struct RenderOptions {
   /// "lateral" (the whole segment, ui/anatomy_view.hpp).
   std::string view = "surgeon";
   bool labels = false;  ///< name the parts on the picture (anterior and lateral views)
+  /// Draw the particle materials as beads (a debug view of the particles) instead of surfaces.
+  bool beads = false;
 };
 
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err);

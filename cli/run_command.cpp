@@ -24,6 +24,7 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
     window.close_after_s = options.close_after_s;
     window.stress_view = options.stress_view;
     window.input_label = options.input;
+    window.beads = options.beads;
     view = std::make_unique<TraineeView>(window);
   }
   const SessionResult result = run_attempt_session(session, view.get(), err);
@@ -35,9 +36,12 @@ int run_run(const RunOptions& options, std::ostream& out, std::ostream& err) {
   // Picture of the final frame.
   if (!options.png.empty()) {
     std::string error;
+    SnapshotOptions drawing;
+    drawing.drawing = options.beads ? MaterialDrawing::kBeads : MaterialDrawing::kSurfaces;
     const RenderScene scene = snapshot_world(
         *result.world,
-        static_cast<float>(options.png_width) / static_cast<float>(options.png_height));
+        static_cast<float>(options.png_width) / static_cast<float>(options.png_height), {},
+        drawing);
     if (!render_to_png(scene, options.png_width, options.png_height, options.png, &error)) {
       err << options.png << ": " << error << "\n";
       return 2;

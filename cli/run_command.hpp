@@ -18,6 +18,9 @@ struct RunOptions : SessionOptions {
   bool headless = false;
   int png_width = 1280;
   int png_height = 800;
+  /// Draw the particle materials as beads (a debug view of the particles) instead of surfaces,
+  /// in the window and the picture.
+  bool beads = false;
   /// Window only: picture of the window (PNG) at `screenshot_at_s` (< 0: the last live frame),
   /// and of the score screen; close the score screen after `close_after_s` (< 0: by hand).
   std::string screenshot;

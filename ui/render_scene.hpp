@@ -11,6 +11,16 @@
 
 namespace acdr {
 
+/// How a surface's light reads, beyond its colour: particle materials get the look of their
+/// tissue (the mesh shader's finishes).
+enum class SurfaceFinish : std::uint8_t {
+  kPlain,      ///< diffuse with a Blinn-Phong highlight of `specular` strength
+  kWetGel,     ///< nucleus and removed lumps: a sharp wet highlight, soft light wrapping into
+               ///< the shadowed side (a translucent gel), a bright rim at grazing angles
+  kFibrous,    ///< annulus: concentric lamellae and fine oblique fibres around `pattern_axis`
+  kCartilage,  ///< hyaline cartilage: smooth, a soft broad sheen, slight translucency
+};
+
 /// A triangle mesh drawn lit, in one colour. Vertices are in the mesh's local frame.
 struct RenderMesh {
   std::vector<Eigen::Vector3f> vertices;
@@ -22,6 +32,11 @@ struct RenderMesh {
   Eigen::Affine3f pose = Eigen::Affine3f::Identity();
   Eigen::Vector4f rgba = Eigen::Vector4f(0.8f, 0.8f, 0.8f, 1.0f);  ///< a < 1: translucent
   float specular = 0.25f;  ///< strength of highlights, 0..1 (steel ~0.7, bone ~0.15)
+  SurfaceFinish finish = SurfaceFinish::kPlain;
+  /// kFibrous: the lamellae are rings around the line through `pattern_origin` along
+  /// `pattern_axis` (world, m; the disc's centre and the spine's axis).
+  Eigen::Vector3f pattern_origin = Eigen::Vector3f::Zero();
+  Eigen::Vector3f pattern_axis = Eigen::Vector3f::UnitY();
   /// Non-zero: a promise that vertices, indices and normals are the same every time this id is
   /// drawn (pose and colour may change), so a renderer uploads them once and keeps them.
   /// 0: uploaded again on every frame (fine for small or changing meshes).

@@ -78,20 +78,81 @@ uniform mat4 u_proj;
 uniform mat3 u_normal_matrix;
 out vec3 v_pos_view;
 out vec3 v_normal_view;
+out vec3 v_pos_world;
 void main() {
-  vec4 p = u_view * (u_model * vec4(a_position, 1.0));
+  vec4 world = u_model * vec4(a_position, 1.0);
+  vec4 p = u_view * world;
+  v_pos_world = world.xyz;
   v_pos_view = p.xyz;
   v_normal_view = u_normal_matrix * a_normal;
   gl_Position = u_proj * p;
 }
 )";
 
+// Tissue finishes (RenderMesh::finish): 0 plain, 1 wet gel, 2 fibrous annulus, 3 cartilage.
 const char* kMeshFragment = R"(
 in vec3 v_pos_view;
 in vec3 v_normal_view;
+in vec3 v_pos_world;
 uniform vec4 u_rgba;
 uniform float u_specular;
+uniform int u_finish;
+uniform vec3 u_pattern_origin;  // world, m
+uniform vec3 u_pattern_axis;    // world, unit
 out vec4 out_color;
+
+// Soft tissue: light wraps past the terminator (`wrap`, 0..1: scattering inside a translucent
+// material), highlights from both lights (a wet surface glints more than once), and a Fresnel
+// rim reflecting the sky at grazing angles (`rim`).
+vec3 shade_tissue(vec3 base, vec3 n, vec3 pos_view, float specular, float wrap, float shininess,
+                  float rim) {
+  vec3 v = normalize(-pos_view);
+  float hemi = 0.5 + 0.5 * dot(n, u_up_dir);
+  vec3 color = base * mix(kGroundAmbient, kSkyAmbient, hemi);
+  float ndl = dot(n, u_key_dir);
+  float visible = key_visibility(pos_view, n);
+  float key = max((ndl + wrap) / (1.0 + wrap), 0.0);
+  // Scattered light also softens the cast shadow a little.
+  color += base * kKeyColor * key * mix(visible, 1.0, 0.3 * wrap);
+  color += base * kFillColor * max((dot(n, u_fill_dir) + wrap) / (1.0 + wrap), 0.0);
+  vec3 h = normalize(u_key_dir + v);
+  color += kKeyColor * specular * pow(max(dot(n, h), 0.0), shininess) * visible * step(0.0, ndl);
+  vec3 hf = normalize(u_fill_dir + v);
+  color += 2.0 * kFillColor * specular * pow(max(dot(n, hf), 0.0), shininess);
+  float fresnel = pow(1.0 - max(dot(n, v), 0.0), 5.0);
+  color += rim * fresnel * kSkyAmbient * 2.0;
+  return sqrt(clamp(color, 0.0, 1.0));
+}
+
+// 0..1 stripes with `coord` cycles, faded to their mean where a cycle gets narrower than about
+// two pixels, so fine fibres never alias into moire.
+float stripes(float coord) {
+  float cycles_per_pixel = fwidth(coord);
+  float s = 0.5 + 0.5 * cos(6.2831853 * coord);
+  return mix(s, 0.5, clamp(2.5 * cycles_per_pixel - 0.25, 0.0, 1.0));
+}
+
+// Annulus: lamellae as concentric rings about the disc's axis (about 0.6 mm apart), each of
+// fibre bundles at about 30 degrees to the disc's plane, the angle alternating from one to the
+// next (drawn 0.25 mm apart: real fibres are finer than a pixel at any useful zoom).
+vec3 fibrous_base(vec3 base) {
+  vec3 a = normalize(u_pattern_axis);
+  vec3 rel = v_pos_world - u_pattern_origin;
+  float along = dot(rel, a);
+  vec3 radial = rel - along * a;
+  float rho = length(radial);
+  // Angle about the axis, 0 at the front (the seam of atan lies at the back).
+  vec3 e1 = normalize(abs(a.x) < 0.9 ? cross(vec3(1.0, 0.0, 0.0), a) : cross(vec3(0.0, 0.0, 1.0), a));
+  vec3 e2 = cross(a, e1);
+  float theta = atan(dot(radial, e2), dot(radial, e1));
+  float lamella = rho / 0.6e-3;
+  float side = mod(floor(lamella), 2.0) < 1.0 ? 1.0 : -1.0;
+  float fibre = (0.5 * rho * theta - side * 0.866 * along) / 0.25e-3;
+  float tone = 0.80 + 0.10 * stripes(lamella) + 0.14 * stripes(fibre);
+  // A pearly, slightly yellow tint between lamellae.
+  return base * tone * mix(vec3(1.0, 0.97, 0.90), vec3(1.0), stripes(lamella));
+}
+
 void main() {
   vec3 n = normalize(v_normal_view);
   if (!gl_FrontFacing) n = -n;  // the inside of an open or clipped mesh is lit as well
@@ -102,7 +163,18 @@ void main() {
     float rim = pow(1.0 - abs(dot(n, normalize(-v_pos_view))), 3.0);
     alpha = mix(alpha, min(1.0, 2.0 * alpha + 0.25), rim);
   }
-  out_color = vec4(shade(u_rgba.rgb, n, v_pos_view, u_specular), alpha);
+  vec3 base = to_linear(clamp(u_rgba.rgb, 0.0, 1.0));
+  vec3 color;
+  if (u_finish == 1) {
+    color = shade_tissue(base, n, v_pos_view, u_specular, 0.5, 140.0, 0.6);
+  } else if (u_finish == 2) {
+    color = shade_tissue(fibrous_base(base), n, v_pos_view, u_specular, 0.15, 24.0, 0.15);
+  } else if (u_finish == 3) {
+    color = shade_tissue(base, n, v_pos_view, u_specular, 0.3, 45.0, 0.35);
+  } else {
+    color = shade_linear(base, n, v_pos_view, u_specular);
+  }
+  out_color = vec4(color, alpha);
 }
 )";
 
@@ -390,6 +462,9 @@ bool SceneRenderer::build_program(Program& program, const char* vertex_src,
   program.light_vp = gl_.GetUniformLocation(id, "u_light_vp");
   program.point_scale = gl_.GetUniformLocation(id, "u_point_scale");
   program.depth_per_m = gl_.GetUniformLocation(id, "u_depth_per_m");
+  program.finish = gl_.GetUniformLocation(id, "u_finish");
+  program.pattern_origin = gl_.GetUniformLocation(id, "u_pattern_origin");
+  program.pattern_axis = gl_.GetUniformLocation(id, "u_pattern_axis");
   return true;
 }
 
@@ -602,6 +677,13 @@ void SceneRenderer::draw_mesh(const RenderMesh& mesh, const GpuMesh& gpu,
   gl_.Uniform4f(mesh_program_.rgba, mesh.rgba.x(), mesh.rgba.y(), mesh.rgba.z(),
                 std::clamp(mesh.rgba.w(), 0.0f, 1.0f));
   gl_.Uniform1f(mesh_program_.specular, std::clamp(mesh.specular, 0.0f, 1.0f));
+  gl_.Uniform1i(mesh_program_.finish, static_cast<GLint>(mesh.finish));
+  gl_.Uniform3f(mesh_program_.pattern_origin, mesh.pattern_origin.x(), mesh.pattern_origin.y(),
+                mesh.pattern_origin.z());
+  const Eigen::Vector3f axis = mesh.pattern_axis.squaredNorm() > 0.0f
+                                   ? mesh.pattern_axis.normalized()
+                                   : Eigen::Vector3f::UnitY();
+  gl_.Uniform3f(mesh_program_.pattern_axis, axis.x(), axis.y(), axis.z());
   gl_.BindVertexArray(gpu.vao);
   gl_.DrawElements(GL_TRIANGLES, gpu.index_count, GL_UNSIGNED_INT, nullptr);
 }

@@ -69,6 +69,7 @@ class SceneRenderer {
     GLint fade_radius = -1, viewport = -1;
     GLint shadow_map = -1, view_to_shadow = -1, shadow_on = -1, shadow_offset = -1;
     GLint shadow_bias = -1, light_vp = -1, point_scale = -1, depth_per_m = -1;
+    GLint finish = -1, pattern_origin = -1, pattern_axis = -1;
   };
   struct GpuMesh {
     GLuint vao = 0, vbo = 0, ebo = 0;

@@ -2,8 +2,8 @@
 #include "ui/scene_snapshot.hpp"
 
 #include <algorithm>
-
 #include <cmath>
+#include <string>
 
 #include "ui/mesh_primitives.hpp"
 #include "ui/render_camera.hpp"
@@ -49,8 +49,9 @@ void add_collider(RenderScene& scene, const Collider& c, const Eigen::Vector4f& 
 
 /// Frames the work area (static solids, particles, the instrument's working end) rather than
 /// the whole scene, whose long shaft would make the disc space small in the picture.
-RenderCamera frame_work_area(const World& world, const Frame& frame, const RenderScene& scene,
-                             float aspect) {
+RenderCamera frame_work_area(const World& world, const Frame& frame,
+                             const std::vector<Eigen::Vector3f>& particles,
+                             const RenderScene& scene, float aspect) {
   Eigen::AlignedBox3d box;
   for (const Collider& c : world.static_colliders()) {
     if (c.kind != ColliderKind::kBox) continue;
@@ -65,7 +66,7 @@ RenderCamera frame_work_area(const World& world, const Frame& frame, const Rende
   // should not shrink the whole scene to a corner of the picture.
   const Eigen::AlignedBox3d walls = box;
   const double near_walls = 0.015;  // m
-  for (const auto& p : scene.particles.positions) {
+  for (const auto& p : particles) {
     const Vec3 x = p.cast<double>();
     if (walls.isEmpty() || walls.exteriorDistance(x) < near_walls) box.extend(x);
   }
@@ -146,16 +147,82 @@ void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
   }
 }
 
+/// The particle materials as surfaces: one per material still in place, one over all the
+/// removed material. Each gets its tissue's colour and finish.
+void add_material_surfaces(RenderScene& scene, const World& world, const WorldState& state,
+                           const SceneStyle& style, MaterialSurfaceCache* cache) {
+  const NucleusConfig& config = world.config().nucleus;
+  const float spacing = static_cast<float>(config.spacing_m);
+  const std::size_t materials = config.materials.size();
+  constexpr std::uint64_t kRemovedKey = 0xffff;
+  // Particle centres by group: materials in place 0..M-1, then the removed material.
+  std::vector<std::vector<Eigen::Vector3f>> groups(materials + 1);
+  for (std::size_t i = 0; i < state.positions.size(); ++i) {
+    const std::size_t m = i < state.material.size() ? state.material[i] : 0;
+    const bool removed = state.particle_class[i] == ParticleClass::kRemoved;
+    groups[removed || m >= materials ? materials : m].push_back(state.positions[i]);
+  }
+  MaterialSurfaceCache local;
+  MaterialSurfaceCache& surfaces = cache ? *cache : local;
+  for (std::size_t g = 0; g <= materials; ++g) {
+    if (groups[g].empty()) continue;
+    const bool removed = g == materials;
+    bool reused = false;
+    const std::uint64_t key = removed ? kRemovedKey : g;
+    const ParticleSurface& surface = surfaces.surface(key, groups[g], spacing, &reused);
+    if (surface.indices.empty()) continue;
+    RenderMesh mesh;
+    mesh.vertices = surface.vertices;
+    mesh.normals = surface.normals;
+    mesh.indices = surface.indices;
+    // A surface unchanged since the last frame keeps its GPU copy; a changing one is streamed
+    // (an id per shape would fill the renderer's cache with shapes never drawn again).
+    if (reused) mesh.geometry_id = (surfaces.hash(key) ^ (key * 0x9e3779b97f4a7c15ull)) | 1u;
+    if (removed) {
+      mesh.rgba = style.removed;
+      mesh.finish = SurfaceFinish::kWetGel;
+      mesh.specular = 0.8f;
+    } else {
+      const MaterialConfig& material = config.materials[g];
+      const bool cartilage = material.name.find("cartilage") != std::string::npos ||
+                             material.name.find("endplate") != std::string::npos;
+      if (material.counts_as_target) {
+        mesh.rgba = style.nucleus;
+        mesh.finish = SurfaceFinish::kWetGel;
+        mesh.specular = 0.8f;
+      } else if (cartilage) {
+        mesh.rgba = style.cartilage;
+        mesh.finish = SurfaceFinish::kCartilage;
+        mesh.specular = 0.45f;
+      } else {
+        mesh.rgba = style.annulus;
+        mesh.finish = SurfaceFinish::kFibrous;
+        mesh.specular = 0.3f;
+        // Lamellae around the axis of the material's ring (or the scene's spine axis y).
+        for (const ParticleBlockConfig& b : config.blocks) {
+          if (b.material != static_cast<int>(g) || b.shape != BlockShape::kEllipticCylinder)
+            continue;
+          mesh.pattern_origin = b.center_m.cast<float>();
+          mesh.pattern_axis = Eigen::Vector3f::Unit(std::clamp(b.axis, 0, 2));
+          break;
+        }
+      }
+    }
+    scene.meshes.push_back(std::move(mesh));
+  }
+}
+
 }  // namespace
 
-RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& style) {
+RenderScene snapshot_world(const World& world, float aspect, const SceneStyle& style,
+                           const SnapshotOptions& options) {
   WorldState state;
   capture_world_state(world, state);
-  return snapshot_state(world, state, aspect, style);
+  return snapshot_state(world, state, aspect, style, options);
 }
 
 RenderScene snapshot_state(const World& world, const WorldState& state, float aspect,
-                           const SceneStyle& style) {
+                           const SceneStyle& style, const SnapshotOptions& options) {
   RenderScene scene;
   const WorldConfig& config = world.config();
   scene.ground.visible = config.ground.enabled;
@@ -166,7 +233,9 @@ RenderScene snapshot_state(const World& world, const WorldState& state, float as
   if (style.draw_instrument)
     for (const Collider& c : state.instrument) add_collider(scene, c, style.instrument, 0.7f);
 
-  if (!state.positions.empty()) {
+  if (!state.positions.empty() && options.drawing == MaterialDrawing::kSurfaces) {
+    add_material_surfaces(scene, world, state, style, options.cache);
+  } else if (!state.positions.empty()) {
     scene.particles.radius_m = static_cast<float>(0.5 * config.nucleus.spacing_m);
     scene.particles.positions = state.positions;
     scene.particles.colors.reserve(state.positions.size());
@@ -181,7 +250,7 @@ RenderScene snapshot_state(const World& world, const WorldState& state, float as
   // Translucent meshes last (the renderer sorts them back to front).
   std::stable_partition(scene.meshes.begin(), scene.meshes.end(),
                         [](const RenderMesh& m) { return m.rgba.w() >= 1.0f; });
-  scene.camera = frame_work_area(world, state.frame, scene, aspect);
+  scene.camera = frame_work_area(world, state.frame, state.positions, scene, aspect);
   if (const Anatomy* anatomy = world.anatomy()) {
     // anatomy: the surgeon's view, from anterior (+z, up), a little to the left
     // and caudal, framing the disc space and the foramina; the spine runs up the image.

@@ -94,11 +94,13 @@ struct TraineeView::Window {
   LiveView view;  ///< the newest live view (the last one once the attempt has ended)
   OrbitCamera orbit;
   bool camera_ready = false;
-  KeyEdge enter_key, reset_key, stress_key;
+  KeyEdge enter_key, reset_key, stress_key, beads_key;
   bool stress_view = false;  ///< the bone stress view is on (key B or the Controls checkbox)
   bool stress_key_pressed = false;
   LiveBoneStress stress;
   std::vector<std::uint64_t> bone_ids;  ///< the anatomy's vertebra meshes in the scene
+  SnapshotOptions drawing;        ///< surfaces or beads (key P)
+  MaterialSurfaceCache surfaces;  ///< material surfaces kept while their particles rest
 
   // One frame's state between begin_frame and end_frame.
   Clock::time_point frame_start;
@@ -119,7 +121,8 @@ struct TraineeView::Window {
     fb_w = std::max(fb_w, 1);
     fb_h = std::max(fb_h, 1);
     aspect = static_cast<float>(fb_w) / static_cast<float>(fb_h);
-    scene = snapshot_state(*world, view.state, aspect);
+    drawing.cache = &surfaces;
+    scene = snapshot_state(*world, view.state, aspect, {}, drawing);
     if (!camera_ready) {
       orbit.reset(scene.camera);
       camera_ready = true;
@@ -137,6 +140,10 @@ struct TraineeView::Window {
     const bool keyboard_free = !io.WantCaptureKeyboard;
     if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) orbit.reset(scene.camera);
     stress_key_pressed = keyboard_free && stress_key.pressed(handle, GLFW_KEY_B);
+    if (keyboard_free && beads_key.pressed(handle, GLFW_KEY_P)) {
+      drawing.drawing = drawing.drawing == MaterialDrawing::kBeads ? MaterialDrawing::kSurfaces
+                                                                   : MaterialDrawing::kBeads;
+    }
     enter = keyboard_free && (enter_key.pressed(handle, GLFW_KEY_ENTER) ||
                               enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
     return true;
@@ -210,6 +217,7 @@ bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputD
   if (const Anatomy* anatomy = world.anatomy())
     for (VertebraLevel level : {VertebraLevel::kC4, VertebraLevel::kC5})
       w->bone_ids.push_back(anatomy->vertebra(level).content_hash() | 1u);  // as scene_snapshot
+  if (options_.beads) w->drawing.drawing = MaterialDrawing::kBeads;
   w->input_label = w->mouse ? "mouse and keyboard"
                             : (options_.input_label.empty() ? "device" : options_.input_label);
   // The first view straight from the world, before anything steps it.

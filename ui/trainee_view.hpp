@@ -29,6 +29,8 @@ struct TraineeViewOptions {
   /// Start with the bone stress view on (the scene must model the bone; key B toggles it).
   bool stress_view = false;
   std::string input_label;  ///< shown in the HUD ("udp:7000", "replay:demo.csv"); mouse: "mouse"
+  /// Start with the particle materials drawn as beads (a debug view); key B toggles.
+  bool beads = false;
 };
 
 class TraineeView final : public AttemptView {

@@ -258,3 +258,42 @@ TEST(Recording, BoneLoadSamplesSurviveBitForBit) {
 
 }  // namespace
 }  // namespace acdr
+
+namespace acdr {
+namespace {
+
+TEST(Recording, RemovedMaterialSurvivesAndGivesTheLumpMetrics) {
+  AttemptRecording r = sample_record();  // particle volume 1 mm^3: spacing 1 mm
+  std::vector<Eigen::Vector3f> removed;
+  for (int i = 0; i < 12; ++i) removed.emplace_back(1e-3f * i, 0.0f, 0.0f);  // a row of 12
+  removed.emplace_back(0.5f, 0.5f, 0.5f);                                    // a stray one
+  r.removed_positions = removed;
+  std::string error;
+  const auto back = decode_recording(encode_recording(r), &error);
+  ASSERT_TRUE(back) << error;
+  ASSERT_TRUE(back->removed_positions);
+  EXPECT_EQ(*back->removed_positions, removed);
+  const Metrics m = compute_metrics(*back);
+  ASSERT_NE(m.find("removed_lump_fraction"), nullptr);
+  EXPECT_DOUBLE_EQ(*m.find("removed_lump_fraction"), 12.0 / 13.0);
+  EXPECT_EQ(*m.find("removed_clusters"), 2.0);
+  EXPECT_EQ(*m.find("removed_lumps"), 1.0);
+  EXPECT_EQ(*m.find("removed_largest_cluster"), 12.0);
+  // Nothing removed is recorded as such (a block of none), and differs from not recorded.
+  r.removed_positions.emplace();
+  const auto none = decode_recording(encode_recording(r), &error);
+  ASSERT_TRUE(none && none->removed_positions);
+  EXPECT_TRUE(none->removed_positions->empty());
+  EXPECT_EQ(*compute_metrics(*none).find("removed_lump_fraction"), 0.0);
+  const auto old = decode_recording(encode_recording(sample_record()), &error);
+  ASSERT_TRUE(old);
+  EXPECT_FALSE(old->removed_positions);
+  EXPECT_EQ(compute_metrics(*old).find("removed_lump_fraction"), nullptr);
+  // A count larger than the block holds is refused.
+  auto bad = encode_recording(r);
+  bad[bad.size() - 4] = 9;
+  EXPECT_FALSE(decode_recording(bad, &error));
+}
+
+}  // namespace
+}  // namespace acdr

@@ -263,3 +263,47 @@ TEST_F(SceneRendererTest, MeshesWithoutNormalsAreLitFlatAcrossCreases) {
 
 }  // namespace
 }  // namespace acdr
+
+namespace acdr {
+namespace {
+
+// Luminance spread over a square window of the image (standard deviation, 0..255).
+double luminance_spread(const test::Image& image, const Eigen::Vector2f& at, int half) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int y = int(at.y()) - half; y <= int(at.y()) + half; ++y)
+    for (int x = int(at.x()) - half; x <= int(at.x()) + half; ++x) {
+      const test::Rgb c = image.at(x, y);
+      const double l = 0.3 * c.r + 0.59 * c.g + 0.11 * c.b;
+      sum += l, sum2 += l * l, ++n;
+    }
+  const double mean = sum / n;
+  return std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+}
+
+TEST_F(SceneRendererTest, TheFibrousFinishDrawsLamellaeAndFibresTheOthersStaySmooth) {
+  // A ring of annulus seen from its front, close up: 5 mm radius, the spine axis y vertical.
+  RenderScene scene;
+  scene.ground.visible = false;
+  scene.shadows.enabled = false;
+  RenderMesh ring = make_cylinder(Eigen::Vector3f(0, -2e-3f, 0), Eigen::Vector3f(0, 2e-3f, 0),
+                                  5e-3f, Eigen::Vector4f(0.90f, 0.88f, 0.84f, 1.0f));
+  scene.camera.eye = Eigen::Vector3f(0, 0, 0.02f);
+  scene.camera.target = Eigen::Vector3f(0, 0, 5e-3f);
+  scene.camera.up = Eigen::Vector3f::UnitY();
+  scene.camera.fov_y_deg = 20.0f;
+  scene.meshes = {ring};
+  const Eigen::Vector2f front = pixel_of(scene, Eigen::Vector3f(0, 0, 5e-3f));
+  const double plain = luminance_spread(render(scene), front, 12);
+  scene.meshes[0].finish = SurfaceFinish::kFibrous;
+  scene.meshes[0].pattern_origin = Eigen::Vector3f::Zero();
+  scene.meshes[0].pattern_axis = Eigen::Vector3f::UnitY();
+  const double fibrous = luminance_spread(render(scene), front, 12);
+  scene.meshes[0].finish = SurfaceFinish::kWetGel;
+  const double gel = luminance_spread(render(scene), front, 12);
+  EXPECT_GT(fibrous, 3.0 * plain + 2.0) << "plain " << plain << ", fibrous " << fibrous;
+  EXPECT_LT(gel, fibrous) << "gel " << gel;
+}
+
+}  // namespace
+}  // namespace acdr

@@ -34,12 +34,23 @@ int count_hue(const std::vector<std::uint8_t>& image, const Eigen::Vector3f& rgb
   return n;
 }
 
-TEST(SceneSnapshot, DrawsTheBoxNucleusAndRemovedMaterial) {
+TEST(SceneSnapshot, DrawsTheBoxNucleusAndRemovedMaterialAsSurfaces) {
   const World world(box_world());
   const SceneStyle style;
   const RenderScene scene = snapshot_world(world, 640.0f / 400.0f, style);
-  EXPECT_EQ(scene.particles.positions.size(), 16u * 12u * 4u);
-  EXPECT_EQ(scene.meshes.size(), 5u + 2u);  // five walls, blade and shaft
+  EXPECT_TRUE(scene.particles.positions.empty());
+  // The nucleus in place and the removed material, as wet gel, then the five walls, blade and
+  // shaft (opaque before translucent).
+  ASSERT_EQ(scene.meshes.size(), 2u + 5u + 2u);
+  int gel = 0;
+  for (const RenderMesh& m : scene.meshes) {
+    if (m.finish != SurfaceFinish::kWetGel) continue;
+    ++gel;
+    EXPECT_FALSE(m.indices.empty());
+    EXPECT_EQ(m.normals.size(), m.vertices.size());
+    EXPECT_TRUE(m.rgba == style.nucleus || m.rgba == style.removed);
+  }
+  EXPECT_EQ(gel, 2);
 
   std::vector<std::uint8_t> rgb;
   std::string error;
@@ -54,6 +65,19 @@ TEST(SceneSnapshot, DrawsTheBoxNucleusAndRemovedMaterial) {
   const int removed = count_hue(rgb, style.removed.head<3>());
   EXPECT_GT(nucleus, 500) << "nucleus-coloured pixels";
   EXPECT_GT(removed, 500) << "removed-material pixels";
+}
+
+TEST(SceneSnapshot, BeadsShowTheParticlesForDebugging) {
+  const World world(box_world());
+  SnapshotOptions beads;
+  beads.drawing = MaterialDrawing::kBeads;
+  const RenderScene scene = snapshot_world(world, 640.0f / 400.0f, {}, beads);
+  EXPECT_EQ(scene.particles.positions.size(), 16u * 12u * 4u);
+  EXPECT_EQ(scene.meshes.size(), 5u + 2u);  // five walls, blade and shaft
+  // The same camera either way: the framing follows the particles, not how they are drawn.
+  const RenderScene surfaces = snapshot_world(world, 640.0f / 400.0f);
+  EXPECT_EQ(scene.camera.eye, surfaces.camera.eye);
+  EXPECT_EQ(scene.camera.target, surfaces.camera.target);
 }
 
 }  // namespace
