@@ -1,6 +1,6 @@
 // The bundled modules' rubrics judge as docs/assessment.md says: on module 02 a run that enters
 // the spinal cord zone scores clearly below a clean run of the same removal (metrics measured
-// with content/trajectories/c4c5_clean_four and c4c5_zone_overshoot), and an attempt that
+// with content/demonstrations/02_c4c5_healthy/partial_clean_four and partial_zone_overshoot), and an attempt that
 // removes nothing earns no safety points.
 #include <gtest/gtest.h>
 
@@ -75,13 +75,14 @@ TEST(BundledModules, DoingNothingScoresNothingOnSafety) {
     idle.set("zone_entries", 0);
     idle.set("zone_over_limit_events", 0);
     idle.set("never_events", 0);
+    idle.set("duration_s", 5.0);  // quick, but not efficient: it did nothing
     const ScoreResult s = score_attempt(idle, rubric);
     EXPECT_FALSE(s.task_done) << module;
     EXPECT_FALSE(s.passed) << module;
     // Only the removal term is left, far below the experts (the box's 0 is 3 SDs short: 20).
     EXPECT_LT(s.score, 10.5) << module;
     for (const TermScore& t : s.terms)
-      if (t.safety) EXPECT_EQ(t.score, 0.0) << module << ": " << t.metric;
+      if (t.safety || t.metric == "duration_s") EXPECT_EQ(t.score, 0.0) << module << ": " << t.metric;
   }
 }
 
