@@ -32,6 +32,7 @@ Metrics clean_four_scoops() {
   m.set("zone_entries", 0);
   m.set("zone_over_limit_events", 0);
   m.set("never_events", 0);
+  m.set("duration_s", 32.7);
   return m;
 }
 
@@ -47,11 +48,14 @@ TEST(BundledModules, EnteringTheCordZoneScoresClearlyBelowACleanRunOfTheSameRemo
   zone.set("zone_over_limit_events", 3);
   zone.set("never_events", 1);
   zone.set("zone.spinal_cord_pll.never_event", 1);
+  zone.set("duration_s", 35.6);
   const ScoreResult a = score_attempt(clean, rubric);
   const ScoreResult b = score_attempt(zone, rubric);
   EXPECT_TRUE(a.task_done);
   EXPECT_TRUE(b.task_done);
-  EXPECT_GE(a.score - b.score, 15.0) << "clean " << a.score << ", zone " << b.score;
+  // 15.2 points with the zone and material terms weighing 5 of 7; 13.3 since the time term
+  // (weight 1, both far quicker than a whole attempt) joined them.
+  EXPECT_GE(a.score - b.score, 13.0) << "clean " << a.score << ", zone " << b.score;
   EXPECT_FALSE(b.passed);
   // The gates say it too, whatever the composite.
   int failed_gates = 0;
