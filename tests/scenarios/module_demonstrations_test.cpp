@@ -129,7 +129,7 @@ TEST_P(ModuleDemonstrations, EachExpertIsCleanAndPassesAlsoLeftOutOfTheCalibrati
 }
 
 // The target: an expert takes out at least 80 % of the nucleus. Not reached on this
-// disc and lattice (the experts remove 53-60 %, docs/anatomy.md, "Demonstrations"); enable it
+// disc and lattice (module 04's experts remove 47-56 %, docs/anatomy.md, "Demonstrations"); enable it
 // when the demonstrations are regenerated for the full-size disc.
 TEST_P(ModuleDemonstrations, DISABLED_EachExpertRemovesAtLeastFourFifthsOfTheNucleus) {
   const Cohort c = cohort_of(GetParam());
