@@ -21,7 +21,7 @@ struct TermScore {
   double value = 0.0;
   double score = 0.0;  ///< 0..100
   bool safety = false;    ///< a Risk & Safety term (RubricTerm::safety)
-  bool withheld = false;  ///< a safety term scored 0 because the task was not done
+  bool withheld = false;  ///< scored 0 because the task was not done (Rubric::task)
 };
 
 struct GateResult {

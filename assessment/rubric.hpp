@@ -20,10 +20,16 @@ struct RubricTerm {
   /// attempt did the task (Rubric::task); otherwise 0, so staying away from the anatomy by
   /// doing nothing earns nothing.
   bool safety = false;
+  /// The smallest expert_sd a calibration from an expert cohort may set
+  /// (assessment/calibration.hpp): where the experts agree exactly (none goes near a danger
+  /// zone, so their zone time is 0 s with SD 0), the floor says what difference is worth one
+  /// SD. 0: none (the experts must differ). Scoring does not read it.
+  double sd_floor = 0.0;
 };
 
 /// What "did the task" means: the metric reached `min` (e.g. nucleus_removed_fraction at
-/// least a quarter of the experts' mean). Safety terms score only then.
+/// least a quarter of the experts' mean). Safety terms, and every other term but the one on
+/// the task's own metric (time, say), score only then.
 struct TaskRule {
   std::string metric;
   double min = 0.0;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace acdr {
 
@@ -20,11 +22,12 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
       if (done)
         std::snprintf(text, sizeof text,
                       "the task was not done (%s = %.3g, at least %.3g needed), so the safety "
-                      "terms score 0",
+                      "terms (and any other but the task's own) score 0",
                       rubric.task->metric.c_str(), *done, rubric.task->min);
       else
         std::snprintf(text, sizeof text,
-                      "the task was not done (%s was not measured), so the safety terms score 0",
+                      "the task was not done (%s was not measured), so the safety terms (and any "
+                      "other but the task's own) score 0",
                       rubric.task->metric.c_str());
       r.reasons.push_back(text);
     }
@@ -36,7 +39,10 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
     ts.metric = term.metric;
     ts.safety = term.safety;
     if (value) ts.value = *value;
-    if (term.safety && !r.task_done) {
+    // Only the task's own metric is scored without the task: safety, time and any other term
+    // are earned by doing it (a quick attempt that removes nothing is not efficient).
+    const bool earned_by_task = term.safety || (rubric.task && term.metric != rubric.task->metric);
+    if (earned_by_task && !r.task_done) {
       ts.withheld = true;
       ts.score = 0;
     } else if (!value) {
@@ -93,7 +99,29 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
     char text[120];
     std::snprintf(text, sizeof text, "composite score %.1f is below the pass score %.1f", r.score,
                   rubric.pass_score);
-    r.reasons.push_back(text);
+    std::string reason = text;
+    // Name what pulled it down: the terms two or more expert SDs on the wrong side of the
+    // experts' mean (time, removal, force, ...), worst first, at most three.
+    std::vector<std::pair<double, std::string>> weak;
+    for (std::size_t i = 0; i < rubric.terms.size(); ++i) {
+      const RubricTerm& term = rubric.terms[i];
+      const TermScore& ts = r.terms[i];
+      if (ts.withheld || metrics.find(term.metric) == nullptr) continue;
+      const double sd = term.expert_sd > 0 ? term.expert_sd : 1.0;
+      double z = (ts.value - term.expert_mean) / sd;
+      if (!term.higher_is_better) z = -z;
+      if (z <= -2.0) {
+        char part[160];
+        std::snprintf(part, sizeof part, "%s = %.3g against the experts' %.3g +- %.2g (%.1f SD %s)",
+                      term.metric.c_str(), ts.value, term.expert_mean, sd, -z,
+                      term.higher_is_better ? "below" : "above");
+        weak.emplace_back(z, part);
+      }
+    }
+    std::sort(weak.begin(), weak.end());
+    for (std::size_t i = 0; i < weak.size() && i < 3; ++i)
+      reason += (i == 0 ? "; furthest from the experts: " : ", ") + weak[i].second;
+    r.reasons.push_back(reason);
   }
   r.passed = r.task_done && gates_ok && numerics_ok && never_ok && r.score >= rubric.pass_score;
   return r;

@@ -5,6 +5,7 @@
 
 #include "app/allocation_guard.hpp"
 #include "cli/bench_command.hpp"
+#include "cli/calibrate_command.hpp"
 #include "cli/dashboard_command.hpp"
 #include "cli/device_sim_command.hpp"
 #include "cli/make_trajectory_command.hpp"
@@ -246,6 +247,51 @@ int main(int argc, char** argv) {
   rescore_cmd->add_option("--attempt", rescore.attempt, "Only this attempt id");
   rescore_cmd->add_flag("--dry-run", rescore.dry_run, "Compute and print, store nothing");
   rescore_cmd->callback([&] { code = acdr::run_rescore(rescore, std::cout, std::cerr); });
+
+  // acdr calibrate
+  acdr::CalibrateOptions calibrate;
+  auto* calibrate_cmd = app.add_subcommand(
+      "calibrate",
+      "Set a module's rubric benchmarks from an expert cohort: per metric the experts' (trimmed) "
+      "mean and SD (docs/assessment.md, Calibration)");
+  calibrate_cmd->add_option("scenario", calibrate.scenario, "Module file (JSON)")->required();
+  auto* record_opt = calibrate_cmd->add_option(
+      "--record", calibrate.records,
+      "Training record (database file) holding the experts' attempts (repeat to pool records)");
+  calibrate_cmd->add_option("--trainee", calibrate.trainees,
+                            "With --record: only this trainee's attempts (repeat for each "
+                            "expert; default: every completed attempt at the module)")
+      ->needs(record_opt);
+  auto* demos_opt = calibrate_cmd->add_option(
+      "--demonstrations", calibrate.demonstrations,
+      "Folder of expert demonstrations (expert_*.csv), replayed through the module");
+  record_opt->excludes(demos_opt);
+  calibrate_cmd->add_option("--trim", calibrate.trim_fraction,
+                            "Share of the experts dropped at each end (0: mean and SD, as the "
+                            "MScore; e.g. 0.1: a trimmed mean, as NeuroVR)")
+      ->check(CLI::Range(0.0, 0.49));
+  calibrate_cmd->add_option("--pass-sds", calibrate.pass_sds,
+                            "Pass score = 50 - 10 x this (default 1: one expert SD below the "
+                            "experts' mean on average)")
+      ->check(CLI::Range(0.0, 5.0));
+  calibrate_cmd->add_option("--task-share", calibrate.task_share,
+                            "Task rule = this share of the experts' mean of the task metric "
+                            "(default 0.25)")
+      ->check(CLI::Range(0.0, 1.0));
+  calibrate_cmd->add_flag("--leave-one-out", calibrate.leave_one_out,
+                          "Also score each expert against the benchmarks of the others");
+  calibrate_cmd->add_option("--out", calibrate.out, "Also write the rubric fragment to this file");
+  calibrate_cmd->add_flag("--write", calibrate.write,
+                          "Put the calibrated rubric into the module file (the rest of the "
+                          "file is kept as it is)");
+  calibrate_cmd->callback([&] {
+    if (calibrate.records.empty() && calibrate.demonstrations.empty()) {
+      std::cerr << "acdr calibrate: give --record DB or --demonstrations DIR\n";
+      code = 2;
+      return;
+    }
+    code = acdr::run_calibrate(calibrate, std::cout, std::cerr);
+  });
 
   // acdr make-trajectory
   std::string waypoints, trajectory_out;

@@ -26,18 +26,18 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
     // The standard scoops: the box demo's blade meets the material at ~1.0 s (force peaks at
     // ~1.25 s, then the blade sweeps through at 10 mm/s); the expert's cup plunges into the
     // C4-C5 nucleus until 1.65 s and sweeps through it from 1.65 to 2.8 s
-    // (content/trajectories/c4c5_expert.cup.csv); its window starts at 1.5 s, the phase at
+    // (content/demonstrations/02_c4c5_healthy/expert_1.cup.csv); its window starts at 1.5 s, the phase at
     // which the 1.8 s start caught the slower session-5 expert (docs/performance.md).
     config.scenes.push_back({"box", "scenarios/modules/01_box_warmup.json",
-                             "content/trajectories/box_demo.csv", 1.0});
+                             "content/demonstrations/01_box_warmup/expert_1.csv", 1.0});
     config.scenes.push_back({"c4c5", "scenarios/modules/02_c4c5_healthy.json",
-                             "content/trajectories/c4c5_expert.csv", 1.5});
+                             "content/demonstrations/02_c4c5_healthy/expert_1.csv", 1.5});
     // The target scene: module 02's segment with the disc at its published size (16 x 16 mm)
     // on a 0.5 mm lattice, the same scoop (its cup meets the nucleus in the same phase). Its
     // lattice is the point, so it has no finer or coarser lattices (x0.5 would be ~55k
     // particles).
     BenchScene full{"c4c5_full", "bench/scenes/c4c5_full_disc.json",
-                    "content/trajectories/c4c5_expert.csv", 1.5};
+                    "content/demonstrations/02_c4c5_healthy/expert_1.csv", 1.5};
     full.spacing_sweep = false;
     config.scenes.push_back(full);
   }

@@ -704,6 +704,7 @@ void read_rubric(ObjectReader& r, Rubric& rubric) {
     if (auto v = tr.boolean("higher_is_better", Need::kRequired)) t.higher_is_better = *v;
     if (auto v = tr.number("weight", Need::kOptional, Range::closed(0.0, 1000.0))) t.weight = *v;
     if (auto b = tr.boolean("safety", Need::kOptional)) t.safety = *b;
+    if (auto v = tr.number("sd_floor", Need::kOptional, Range::closed(0.0, 1e9))) t.sd_floor = *v;
     tr.finish();
     rubric.terms.push_back(t);
   }

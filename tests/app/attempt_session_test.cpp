@@ -252,7 +252,7 @@ TEST(AttemptSession, TheBundledModule02IsLockedOnANewRecord) {
   const std::string modules = std::string(ACDR_SOURCE_DIR) + "/scenarios/modules";
   SessionOptions o;
   o.scenario = modules + "/02_c4c5_healthy.json";
-  o.input = "replay:" + std::string(ACDR_SOURCE_DIR) + "/content/trajectories/c4c5_novice.csv";
+  o.input = "replay:" + std::string(ACDR_SOURCE_DIR) + "/content/demonstrations/02_c4c5_healthy/novice_corner.csv";
   o.db = dir.file("new.sqlite");
   o.trainee = "bob";
   std::ostringstream notes;

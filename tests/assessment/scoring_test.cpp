@@ -70,6 +70,27 @@ TEST(Scoring, NeverEventFailsWhateverTheRubricAndNamesTheZone) {
   EXPECT_EQ(s.reasons[0].find("vertebral_artery_left"), std::string::npos) << s.reasons[0];
 }
 
+TEST(Scoring, ABelowPassReasonNamesTheTermsFarFromTheExperts) {
+  Rubric r = rubric();
+  r.terms.push_back({"duration_s", 80.0, 4.0, false, 1.0});
+  Metrics m;
+  m.set("removed", 0.45);      // z = -0.5: not named
+  m.set("force", 2.5);         // z = -3
+  m.set("duration_s", 100.0);  // z = -5: the worst, named first
+  m.set("overloads", 0);
+  const ScoreResult s = score_attempt(m, r);
+  EXPECT_FALSE(s.passed);
+  ASSERT_EQ(s.reasons.size(), 1u);
+  const std::string& why = s.reasons[0];
+  EXPECT_EQ(why.find("composite score"), 0u) << why;
+  const auto duration = why.find("duration_s = 100 against the experts' 80 +- 4 (5.0 SD above)");
+  const auto force = why.find("force = 2.5 against the experts' 1 +- 0.5 (3.0 SD above)");
+  EXPECT_NE(duration, std::string::npos) << why;
+  EXPECT_NE(force, std::string::npos) << why;
+  EXPECT_LT(duration, force) << why;
+  EXPECT_EQ(why.find("removed ="), std::string::npos) << why;
+}
+
 }  // namespace
 }  // namespace acdr
 
@@ -100,7 +121,7 @@ TEST(Scoring, DoingNothingEarnsNoSafetyPoints) {
   EXPECT_EQ(s.terms[1].score, 0.0);
   EXPECT_TRUE(s.terms[1].withheld);
   EXPECT_EQ(s.terms[2].score, 0.0);
-  EXPECT_FALSE(s.terms[0].withheld);  // quality terms are scored as they are
+  EXPECT_FALSE(s.terms[0].withheld);  // the task's own term is scored as it is
   EXPECT_EQ(s.score, 0.0);
   EXPECT_FALSE(s.passed);
   ASSERT_FALSE(s.reasons.empty());
@@ -148,6 +169,32 @@ TEST(Scoring, AGateOnOneZoneMetric) {
   EXPECT_NE(s.reasons[0].find("zone.spinal_cord_pll.inside_s = 1.7 is above its limit 0"),
             std::string::npos)
       << s.reasons[0];
+}
+
+}  // namespace
+}  // namespace acdr
+
+namespace acdr {
+namespace {
+
+TEST(Scoring, TimeIsEarnedOnlyByDoingTheTask) {
+  Rubric r;
+  r.terms.push_back({"nucleus_removed_fraction", 0.6, 0.1, true, 2.0});
+  r.terms.push_back({"duration_s", 80.0, 3.0, false, 1.0});
+  r.gates.push_back({"overload_events", 0.0});
+  r.task = TaskRule{"nucleus_removed_fraction", 0.15};
+  Metrics quick;  // 5 s and nothing removed: not efficient, absent
+  quick.set("nucleus_removed_fraction", 0.0);
+  quick.set("duration_s", 5.0);
+  quick.set("overload_events", 0);
+  ScoreResult s = score_attempt(quick, r);
+  EXPECT_TRUE(s.terms[1].withheld);
+  EXPECT_EQ(s.terms[1].score, 0.0);
+  EXPECT_EQ(s.score, 0.0);
+  quick.set("nucleus_removed_fraction", 0.6);  // the same time with the task done
+  s = score_attempt(quick, r);
+  EXPECT_FALSE(s.terms[1].withheld);
+  EXPECT_EQ(s.terms[1].score, 100.0);
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ namespace acdr {
 namespace {
 
 const std::string kBox = std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/01_box_warmup.json";
-const std::string kBoxPath = std::string(ACDR_SOURCE_DIR) + "/content/trajectories/box_demo.csv";
+const std::string kBoxPath = std::string(ACDR_SOURCE_DIR) + "/content/demonstrations/01_box_warmup/expert_1.csv";
 
 BenchConfig tiny_config() {
   BenchConfig c;

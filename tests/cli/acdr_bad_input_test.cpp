@@ -47,7 +47,7 @@ class AcdrBadInput : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // The box module's demonstration, cut to its first 0.1 s.
-    std::ifstream in(source("content/trajectories/box_demo.csv"));
+    std::ifstream in(source("content/demonstrations/01_box_warmup/expert_1.csv"));
     std::ofstream out(path("short.csv"));
     for (std::string line; std::getline(in, line);) {
       if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])) && std::stod(line) > 0.1) break;

@@ -1,6 +1,6 @@
 // The bundled modules' rubrics judge as docs/assessment.md says: on module 02 a run that enters
 // the spinal cord zone scores clearly below a clean run of the same removal (metrics measured
-// with content/trajectories/c4c5_clean_four and c4c5_zone_overshoot), and an attempt that
+// with content/demonstrations/02_c4c5_healthy/partial_clean_four and partial_zone_overshoot), and an attempt that
 // removes nothing earns no safety points.
 #include <gtest/gtest.h>
 
@@ -32,6 +32,7 @@ Metrics clean_four_scoops() {
   m.set("zone_entries", 0);
   m.set("zone_over_limit_events", 0);
   m.set("never_events", 0);
+  m.set("duration_s", 32.7);
   return m;
 }
 
@@ -47,11 +48,14 @@ TEST(BundledModules, EnteringTheCordZoneScoresClearlyBelowACleanRunOfTheSameRemo
   zone.set("zone_over_limit_events", 3);
   zone.set("never_events", 1);
   zone.set("zone.spinal_cord_pll.never_event", 1);
+  zone.set("duration_s", 35.6);
   const ScoreResult a = score_attempt(clean, rubric);
   const ScoreResult b = score_attempt(zone, rubric);
   EXPECT_TRUE(a.task_done);
   EXPECT_TRUE(b.task_done);
-  EXPECT_GE(a.score - b.score, 15.0) << "clean " << a.score << ", zone " << b.score;
+  // 15.2 points with the zone and material terms weighing 5 of 7; 13.3 since the time term
+  // (weight 1, both far quicker than a whole attempt) joined them.
+  EXPECT_GE(a.score - b.score, 13.0) << "clean " << a.score << ", zone " << b.score;
   EXPECT_FALSE(b.passed);
   // The gates say it too, whatever the composite.
   int failed_gates = 0;
@@ -75,13 +79,14 @@ TEST(BundledModules, DoingNothingScoresNothingOnSafety) {
     idle.set("zone_entries", 0);
     idle.set("zone_over_limit_events", 0);
     idle.set("never_events", 0);
+    idle.set("duration_s", 5.0);  // quick, but not efficient: it did nothing
     const ScoreResult s = score_attempt(idle, rubric);
     EXPECT_FALSE(s.task_done) << module;
     EXPECT_FALSE(s.passed) << module;
     // Only the removal term is left, far below the experts (the box's 0 is 3 SDs short: 20).
     EXPECT_LT(s.score, 10.5) << module;
     for (const TermScore& t : s.terms)
-      if (t.safety) {
+      if (t.safety || t.metric == "duration_s") {
         EXPECT_EQ(t.score, 0.0) << module << ": " << t.metric;
       }
   }

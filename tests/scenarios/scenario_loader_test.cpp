@@ -143,6 +143,8 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   const Quat expected(std::cos(M_PI / 12), 0.0, std::sin(M_PI / 12), 0.0);
   EXPECT_TRUE(w.instrument_start.orientation.isApprox(expected, 1e-12));
   EXPECT_DOUBLE_EQ(w.coupling.damping_Ns_m, 4.0);
+  EXPECT_DOUBLE_EQ(r.model->rubric.terms[0].sd_floor, 0.0);
+  EXPECT_DOUBLE_EQ(r.model->rubric.terms[1].sd_floor, 0.02);
   // The preset's force is overridden, its name replaced.
   EXPECT_EQ(w.device.name, "bench Desktop");
   EXPECT_DOUBLE_EQ(w.device.max_force_N, 6.0);

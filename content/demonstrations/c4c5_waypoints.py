@@ -1,0 +1,87 @@
+#!/usr/bin/env python3
+"""Grip waypoints for the C4-C5 demonstration attempts, from cup-centre targets.
+
+An author thinks of where the curette's cup should be; the device drives the grip, 81.9 mm
+up the shaft (80 mm shaft + 1.9 mm cup radius, scenarios/modules/0[2-4]_*.json). This tool
+turns rows of
+
+    t_s, cup_x_mm, cup_y_mm, cup_z_mm, roll_deg, pitch_deg, yaw_deg
+
+(segment frame, docs/anatomy.md: x left, y cranial, z anterior = up) into the waypoint CSV of
+`acdr make-trajectory` (docs/trajectory-format.md): grip = cup - R(roll, pitch, yaw) (0, 0, -L),
+R applied yaw, then pitch, then roll, as engine/devices/waypoint_path.cpp does. Where the orientation
+changes between two rows, intermediate waypoints every 10 degrees keep the cup where the rows
+put it (the grip is interpolated linearly, so one long rotation would swing the cup through the
+anatomy). Lines starting with '#' are copied as comments.
+
+    python3 c4c5_waypoints.py expert_1.cup.csv > expert_1.waypoints.csv
+    build/acdr make-trajectory expert_1.waypoints.csv expert_1.csv
+
+(content/demonstrations/scoop_plans.py writes the cup rows of the bundled demonstrations from
+the module files and calls this tool's waypoint_lines; scripts/demonstrations runs the lot.)
+
+For another curette, give its geometry (the scenario's instrument keys, mm):
+
+    python3 c4c5_waypoints.py --cup 4 --wall 0.4 --shaft 80 rows.cup.csv
+"""
+import argparse
+import math
+
+L_MM = 81.9  # grip to cup centre of the modules' curette: 80 mm shaft + 1.5 mm cup radius + 0.4 mm wall
+
+
+def rotation(roll, pitch, yaw):
+    r, p, y = (math.radians(a) for a in (roll, pitch, yaw))
+    rx = [[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]]
+    ry = [[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]]
+    rz = [[math.cos(y), -math.sin(y), 0], [math.sin(y), math.cos(y), 0], [0, 0, 1]]
+    mul = lambda a, b: [[sum(a[i][k] * b[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+    return mul(rz, mul(ry, rx))
+
+
+def grip_row(t, cup, rpy, length):
+    rot = rotation(*rpy)
+    grip = [cup[i] + length * rot[i][2] for i in range(3)]  # cup - R (0, 0, -L)
+    return "%.3f,%.3f,%.3f,%.3f,%.2f,%.2f,%.2f" % (t, grip[0], grip[1], grip[2], *rpy)
+
+
+def cup_to_grip(shaft_mm, cup_mm, wall_mm):
+    """engine/rigid/instrument.cpp: the cup centre lies shaft + cup/2 + wall below the grip."""
+    return shaft_mm + 0.5 * cup_mm + wall_mm
+
+
+def waypoint_lines(lines, length=L_MM):
+    """The waypoint CSV lines for cup-centre row lines (comments copied)."""
+    rows, out = [], ["t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg"]
+    for line in lines:
+        line = line.strip()
+        if not line:
+            continue
+        if line.startswith("#"):
+            out.append(line)
+            continue
+        # A row may end in a comment: "t, x, y, z, roll, pitch, yaw   # what it does".
+        t, x, y, z, ro, pi, ya = (float(v) for v in line.split("#")[0].split(","))
+        if rows:
+            t0, cup0, rpy0 = rows[-1]
+            turn = max(abs(a - b) for a, b in zip(rpy0, (ro, pi, ya)))
+            steps = int(math.ceil(turn / 10.0))
+            for k in range(1, steps):
+                f = k / steps
+                cup = [c0 + f * (c1 - c0) for c0, c1 in zip(cup0, (x, y, z))]
+                rpy = [a0 + f * (a1 - a0) for a0, a1 in zip(rpy0, (ro, pi, ya))]
+                out.append(grip_row(t0 + f * (t - t0), cup, rpy, length))
+        rows.append((t, (x, y, z), (ro, pi, ya)))
+        out.append(grip_row(t, (x, y, z), (ro, pi, ya), length))
+    return out
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser(description="grip waypoints from cup-centre rows")
+    ap.add_argument("rows", help="cup-centre CSV: t_s, x, y, z (mm), roll, pitch, yaw (deg)")
+    ap.add_argument("--cup", type=float, default=3.0, help="cup_diameter_mm (default 3)")
+    ap.add_argument("--wall", type=float, default=0.4, help="cup_wall_mm (default 0.4)")
+    ap.add_argument("--shaft", type=float, default=80.0, help="shaft_length_mm (default 80)")
+    args = ap.parse_args()
+    with open(args.rows) as f:
+        print("\n".join(waypoint_lines(f, cup_to_grip(args.shaft, args.cup, args.wall))))
