@@ -2,6 +2,7 @@
 #include "ui/trainee_view.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <thread>
@@ -14,6 +15,7 @@
 #include "ui/glfw_window.hpp"
 #include <GLFW/glfw3.h>
 
+#include "ui/depth_cue.hpp"
 #include "ui/display.hpp"
 #include "ui/imgui_gl_renderer.hpp"
 #include "ui/imgui_style.hpp"
@@ -31,6 +33,12 @@ using Clock = std::chrono::steady_clock;
 
 // ~60 Hz even without vsync (Xvfb): the haptic thread needs the CPU more than extra frames do.
 constexpr auto kFramePeriod = std::chrono::microseconds(16667);
+// Mouse mode's camera: from the side (+x), 35 degrees above the horizontal, so that depth
+// shows as up and down on the screen and the disc space is seen edge-on between the bodies
+// (from the feet, the lower vertebra hides it). A drag to the right moves toward the head,
+// a drag up moves away across the work.
+constexpr float kMouseViewYawRad = 1.5708f;
+constexpr float kMouseViewPitchRad = 0.61f;
 
 bool key_down(GLFWwindow* w, int key) { return glfwGetKey(w, key) == GLFW_PRESS; }
 
@@ -86,16 +94,19 @@ struct TraineeView::Window {
   std::unique_ptr<GlfwWindow> window;
   std::unique_ptr<SceneRenderer> renderer;
   WindowImGui imgui;
+  std::atomic<std::uint64_t>* frames_shown = nullptr;  ///< TraineeView's counter
   std::unique_ptr<MouseInstrumentDevice> mouse;  ///< when the view drives the instrument
   InputDevice* device = nullptr;
   std::string input_label;
   LiveView view;  ///< the newest live view (the last one once the attempt has ended)
   OrbitCamera orbit;
   bool camera_ready = false;
-  KeyEdge enter_key, reset_key;
+  DepthReference depth;  ///< mouse mode: what the depth cue measures against
+  KeyEdge enter_key, keypad_enter_key, reset_key;
 
   // One frame's state between begin_frame and end_frame.
   Clock::time_point frame_start;
+  Clock::time_point last_input = Clock::now();  ///< the last frame that read the keys
   int fb_w = 0, fb_h = 0;
   float aspect = 1.0f;
   RenderScene scene;
@@ -115,24 +126,40 @@ struct TraineeView::Window {
     aspect = static_cast<float>(fb_w) / static_cast<float>(fb_h);
     scene = snapshot_state(*world, view.state, aspect);
     if (!camera_ready) {
-      orbit.reset(scene.camera);
+      reset_camera();
       camera_ready = true;
     }
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     const ImGuiIO& io = ImGui::GetIO();
-    // Camera: right-drag orbit, wheel zoom, middle-drag pan (unless over a HUD window).
+    // Camera (unless over a HUD window). With a device: right-drag orbit, wheel zoom,
+    // middle-drag pan. In mouse mode the left and right buttons and the wheel move the
+    // instrument, so: middle-drag orbit, Shift + middle-drag pan, Ctrl + wheel zoom.
     if (!io.WantCaptureMouse) {
-      if (io.MouseDown[1]) orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
-      if (io.MouseDown[2]) orbit.pan(io.MouseDelta.x, io.MouseDelta.y, io.DisplaySize.y);
-      if (io.MouseWheel != 0.0f) orbit.zoom(io.MouseWheel);
+      if (!mouse) {
+        if (io.MouseDown[1]) orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
+        if (io.MouseDown[2]) orbit.pan(io.MouseDelta.x, io.MouseDelta.y, io.DisplaySize.y);
+        if (io.MouseWheel != 0.0f) orbit.zoom(io.MouseWheel);
+      } else {
+        if (io.MouseDown[2] && io.KeyShift)
+          orbit.pan(io.MouseDelta.x, io.MouseDelta.y, io.DisplaySize.y);
+        else if (io.MouseDown[2])
+          orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
+        if (io.MouseWheel != 0.0f && io.KeyCtrl) orbit.zoom(io.MouseWheel);
+      }
     }
     GLFWwindow* handle = window->handle();
     const bool keyboard_free = !io.WantCaptureKeyboard;
-    if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) orbit.reset(scene.camera);
+    if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) reset_camera();
     enter = keyboard_free && (enter_key.pressed(handle, GLFW_KEY_ENTER) ||
-                              enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
+                              keypad_enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
     return true;
+  }
+
+  // The default view of the work area; in mouse mode from the side and lower down.
+  void reset_camera() {
+    orbit.reset(scene.camera);
+    if (mouse) orbit.set_angles(kMouseViewYawRad, kMouseViewPitchRad);
   }
 
   // The instrument from the mouse and keyboard, when the view drives it.
@@ -141,10 +168,20 @@ struct TraineeView::Window {
     const ImGuiIO& io = ImGui::GetIO();
     GLFWwindow* handle = window->handle();
     MouseKeyInput in;
-    in.dt_s = 1.0 / 60.0;
-    if (!io.WantCaptureMouse && io.MouseDown[0]) {
-      in.drag_dx_px = io.MouseDelta.x;
-      in.drag_dy_px = io.MouseDelta.y;
+    // Held keys move by the time since the last frame (a slow window moves as far).
+    in.dt_s = std::clamp(std::chrono::duration<double>(frame_start - last_input).count(), 0.0,
+                         0.25);
+    last_input = frame_start;
+    if (!io.WantCaptureMouse) {
+      if (io.MouseDown[0] && io.KeyCtrl) {
+        in.turn_dx_px = io.MouseDelta.x;
+        in.turn_dy_px = io.MouseDelta.y;
+      } else if (io.MouseDown[0]) {
+        in.drag_dx_px = io.MouseDelta.x;
+        in.drag_dy_px = io.MouseDelta.y;
+      }
+      if (io.MouseDown[1]) in.depth_drag_px = io.MouseDelta.y;
+      if (!io.KeyCtrl) in.wheel_notches = io.MouseWheel;
     }
     if (!io.WantCaptureKeyboard) {
       in.up = key_down(handle, GLFW_KEY_W);
@@ -159,6 +196,14 @@ struct TraineeView::Window {
     mouse->set_pose(apply_mouse_input(mouse->pose(), in, orbit.camera()));
   }
 
+  // Mouse mode: the drop line to the surface and the depth gauge.
+  void draw_depth_cue() {
+    if (!mouse) return;
+    const DepthCue cue = make_depth_cue(depth, view.state.frame);
+    draw_depth_drop_line(cue, orbit.camera(), ImGui::GetIO().DisplaySize);
+    draw_depth_gauge(cue, ImGui::GetIO().DisplaySize);
+  }
+
   // Draws the scene and the overlay built since begin_frame.
   void render() {
     scene.camera = orbit.camera();
@@ -170,6 +215,7 @@ struct TraineeView::Window {
   // Shows the frame and paces the loop.
   void end_frame() {
     window->swap_buffers();
+    frames_shown->fetch_add(1, std::memory_order_relaxed);
     std::this_thread::sleep_until(frame_start + kFramePeriod);
   }
 };
@@ -194,6 +240,9 @@ bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputD
   w->renderer = SceneRenderer::create(w->window->gl(), error);
   if (!w->renderer) return false;
   if (!w->imgui.init(*w->window, error)) return false;
+  // A key pressed and released between two frames still counts (a slow frame loses no Enter).
+  glfwSetInputMode(w->window->handle(), GLFW_STICKY_KEYS, GLFW_TRUE);
+  w->frames_shown = &frames_shown_;
   // The instrument's input: the given device, or the mouse and keyboard.
   w->device = device;
   if (!device) {
@@ -204,6 +253,7 @@ bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputD
                             : (options_.input_label.empty() ? "device" : options_.input_label);
   // The first view straight from the world, before anything steps it.
   capture_world_state(world, w->view.state);
+  w->depth = depth_reference(world, w->view.state);
   window_ = std::move(w);
   return true;
 }
@@ -226,8 +276,8 @@ void TraineeView::watch(LiveAttempt& live) {
     hud.mouse_mode = w.mouse != nullptr;
     HudActions actions;
     draw_trainee_hud(hud, ImGui::GetIO().DisplaySize, &actions);
-    if (actions.reset_camera)
-      w.orbit.reset(snapshot_state(*w.world, w.view.state, w.aspect).camera);
+    w.draw_depth_cue();
+    if (actions.reset_camera) w.reset_camera();
     if ((actions.finish || w.enter) && !finished) {
       // "Done": score what was done (for the mouse through the device, like a bridge's
       // end-of-attempt).
