@@ -46,9 +46,10 @@ TEST(DepthCue, TheC4C5ModuleMeasuresFromTheDiscsFrontToTheBodiesBackWall) {
   capture_world_state(world, state);
   const DepthReference r = depth_reference(world, state);
   ASSERT_TRUE(r.valid);
-  // The disc's material starts at its front (the annulus at z = 4.5 mm, plus a particle's
-  // reach); the back is the vertebral bodies' back wall, behind the nucleus (z >= -3.5 mm).
-  EXPECT_NEAR(r.surface_z_m, 4.5e-3, 1e-3);
+  // The disc's material starts where the trainee meets it through the window cut in the
+  // annulus's front: the nucleus's top layer (2.5 mm); the back is the vertebral bodies' back
+  // wall, behind the nucleus (z >= -3.5 mm).
+  EXPECT_NEAR(r.surface_z_m, 2.5e-3, 0.5e-3);
   EXPECT_LT(r.floor_z_m, -3.5e-3);
   EXPECT_EQ(r.floor_name, "back of the disc (PLL, spinal cord)");
 }
