@@ -1,11 +1,10 @@
 // Rows of the score table.
 #include "app/score_table.hpp"
 
-#include <cctype>
 #include <cstdio>
 #include <utility>
 
-#include "assessment/zone_findings.hpp"
+#include "assessment/metric_labels.hpp"
 
 namespace acdr {
 namespace {
@@ -109,66 +108,6 @@ std::vector<std::string> score_scale_text(const Rubric* rubric) {
                     metric_label(rubric->task->metric) + format(" at least %.3g", rubric->task->min) +
                     "); otherwise they score 0.");
   return lines;
-}
-
-std::string metric_label(const std::string& metric) {
-  // Known metrics with hand-written labels; others are derived from the name.
-  static const std::vector<std::pair<std::string, std::string>> kLabels = {
-      {"nucleus_removed_fraction", "Nucleus removed (fraction)"},
-      {"nucleus_removed_mm3", "Nucleus removed (mm³)"},
-      {"protected_removed_mm3", "Annulus/endplate removed (mm³)"},
-      {"peak_instrument_force_N", "Peak instrument force (N)"},
-      {"instrument_force_impulse_Ns", "Instrument force impulse (N·s)"},
-      {"peak_contact_force_N", "Peak bone/wall contact force (N)"},
-      {"peak_feedback_force_N", "Peak force on the hand (N)"},
-      {"peak_bending_moment_Nm", "Peak shaft bending moment (N·m)"},
-      {"overload_events", "Shaft overload warnings"},
-      {"yield_events", "Shaft yield (bent) events"},
-      {"time_over_warning_s", "Time over the overload warning (s)"},
-      {"tip_path_length_mm", "Tip path length (mm)"},
-      {"duration_s", "Duration (s)"},
-      {"idle_time_s", "Idle time (s)"},
-      {"zone_warnings", "Danger zone warnings"},
-      {"zone_entries", "Danger zone entries"},
-      {"zone_over_limit_events", "Force over a zone's limit (times)"},
-      {"zone_peak_force_N", "Peak force near a danger zone (N)"},
-      {"zone_impulse_Ns", "Force-time near danger zones (N·s)"},
-      {"zone_dwell_s", "Time near danger zones (s)"},
-      {"never_events", "Never-events"},
-  };
-  for (const auto& [name, label] : kLabels)
-    if (name == metric) return label;
-  // zone.<id>.<quantity> -> "<zone>: <quantity>", e.g. "Spinal cord / PLL: peak force (N)".
-  if (metric.rfind("zone.", 0) == 0) {
-    const std::size_t dot = metric.find('.', 5);
-    if (dot != std::string::npos && dot + 1 < metric.size()) {
-      std::string zone = zone_display_name(metric.substr(5, dot - 5));
-      for (char& c : zone)
-        if (c == '_') c = ' ';
-      if (!zone.empty() && zone[0] >= 'a' && zone[0] <= 'z') zone[0] = static_cast<char>(zone[0] - 'a' + 'A');
-      std::string quantity = metric_label(metric.substr(dot + 1));
-      if (!quantity.empty() && quantity[0] >= 'A' && quantity[0] <= 'Z')
-        quantity[0] = static_cast<char>(quantity[0] - 'A' + 'a');
-      return zone + ": " + quantity;
-    }
-  }
-  // snake_case_with_unit -> "Snake case with (unit)"
-  std::string words = metric;
-  std::string unit;
-  static const char* kUnits[] = {"_mm3", "_mm", "_Ns", "_Nm", "_N", "_s", "_m"};
-  for (const char* u : kUnits) {
-    const std::string suffix = u;
-    if (words.size() > suffix.size() &&
-        words.compare(words.size() - suffix.size(), suffix.size(), suffix) == 0) {
-      unit = suffix.substr(1);
-      words.resize(words.size() - suffix.size());
-      break;
-    }
-  }
-  for (char& c : words)
-    if (c == '_') c = ' ';
-  if (!words.empty()) words[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(words[0])));
-  return unit.empty() ? words : words + " (" + unit + ")";
 }
 
 }  // namespace acdr

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "assessment/attempt_result.hpp"
+#include "assessment/metric_labels.hpp"  // metric_label, for the rows
 #include "assessment/rubric.hpp"
 
 namespace acdr {
@@ -56,7 +57,5 @@ std::string benchmark_text(const ScoreTableRow& row);
 /// safety terms) that they are earned only by doing the task. `rubric` null: the general text.
 std::vector<std::string> score_scale_text(const Rubric* rubric);
 
-/// A human label for a metric name ("peak_instrument_force_N" -> "Peak instrument force (N)").
-std::string metric_label(const std::string& metric);
 
 }  // namespace acdr

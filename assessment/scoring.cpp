@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "assessment/metric_labels.hpp"
+
 namespace acdr {
 
 ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
@@ -90,7 +92,10 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
       if (value == 0 || name.rfind("zone.", 0) != 0 || name.size() <= suffix.size() + 5 ||
           name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
         continue;
-      zones += (zones.empty() ? "" : ", ") + name.substr(5, name.size() - 5 - suffix.size());
+      // By the zone's name in words (the record keeps the id in the metric's name).
+      const std::string zone = zone_display_name(name.substr(5, name.size() - 5 - suffix.size()));
+      zones += (zones.empty() ? "the " : ", the ") + zone +
+               (zone.find("zone") == std::string::npos ? " zone" : "");
     }
     r.reasons.push_back("never-event: the instrument entered " +
                         (zones.empty() ? std::string("a never-event zone") : zones));

@@ -45,21 +45,6 @@ std::string describe(const ZoneFinding& f) {
 
 }  // namespace
 
-std::string zone_display_name(const std::string& zone_name) {
-  static const std::pair<const char*, const char*> kGenerated[] = {
-      {"vertebral_artery_left", "left vertebral artery"},
-      {"vertebral_artery_right", "right vertebral artery"},
-      {"nerve_root_left", "left nerve root"},
-      {"nerve_root_right", "right nerve root"},
-      {"spinal_cord_pll", "spinal cord / PLL"},
-      {"endplate_c4_lower", "C4 lower endplate"},
-      {"endplate_c5_upper", "C5 upper endplate"},
-  };
-  for (const auto& [name, label] : kGenerated)
-    if (zone_name == name) return label;
-  return zone_name;
-}
-
 std::vector<ZoneFinding> zone_findings(const Metrics& metrics,
                                        const std::vector<std::string>& zone_names) {
   const std::vector<std::string> ids = zone_names.empty() ? ids_in(metrics)

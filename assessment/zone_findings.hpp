@@ -8,13 +8,9 @@
 #include <vector>
 
 #include "assessment/attempt_result.hpp"
+#include "assessment/metric_labels.hpp"  // zone_display_name
 
 namespace acdr {
-
-/// The name a person reads for a zone: the generated C4-C5 zones by their anatomy
-/// ("spinal_cord_pll" -> "spinal cord / PLL", "nerve_root_left" -> "left nerve root"); any other
-/// zone by its name as the scenario wrote it.
-std::string zone_display_name(const std::string& zone_name);
 
 /// One zone the instrument came near (within its warning distance) or entered.
 struct ZoneFinding {

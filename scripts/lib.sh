@@ -10,7 +10,7 @@ ACDR_PACKAGES=(
   libbullet-dev libeigen3-dev libsqlite3-dev nlohmann-json3-dev libimgui-dev libstb-dev
   libosmesa6-dev libglfw3-dev libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
   libtinyobjloader-dev zlib1g-dev libcurl4-openssl-dev
-  libcgal-dev libgmp-dev libmpfr-dev libsuitesparse-dev
+  libcgal-dev libgmp-dev libmpfr-dev libsuitesparse-dev libxtst-dev
   clang libclang-rt-14-dev
   xvfb xauth
 )

@@ -133,13 +133,10 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
     ImGui::EndTable();
   }
   // Legend.
-  for (const char* s : {"locked", "not started", "in progress", "passed", "mastered"}) {
-    ImGui::ColorButton(s, state_color(s), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-    ImGui::SameLine();
-    ImGui::TextUnformatted(s);
-    ImGui::SameLine(0, 16);
-  }
-  ImGui::NewLine();
+  std::vector<LegendItem> states;
+  for (const char* s : {"locked", "not started", "in progress", "passed", "mastered"})
+    states.push_back({u32(state_color(s)), s});
+  draw_legend(states);
 }
 
 // ---- learning curve --------------------------------------------------------------------------
@@ -349,9 +346,15 @@ void draw_time_plots(const AttemptDrillDown& d, DashboardSelection& sel) {
       PlotLine{static_cast<float>(r.summary.device_max_force_N), u32(ui_colors::kDanger, 0.8f),
                "device max " + fmt("%.1f N", r.summary.device_max_force_N)}};
   PlotInteraction pi = draw_plot(force, fs, limit, bands);
-  ImGui::TextColored(ui_colors::kMuted,
-                     "Bands: amber overload warning, red above yield, orange near a danger zone, "
-                     "magenta inside one, grey input rejected/lost.");
+  // What the bands behind the curves mean, in their colours.
+  ImGui::TextColored(ui_colors::kMuted, "Bands:");
+  const std::array<LegendItem, 5> band_legend{
+      LegendItem{u32(ui_colors::kWarning, 0.6f), "overload warning"},
+      LegendItem{u32(ui_colors::kDanger, 0.7f), "above yield"},
+      LegendItem{IM_COL32(242, 115, 38, 160), "near a danger zone"},
+      LegendItem{IM_COL32(240, 40, 150, 200), "inside one"},
+      LegendItem{IM_COL32(150, 150, 150, 160), "input rejected or lost"}};
+  draw_legend(band_legend, true);
   if (pi.clicked) sel.replay_t_s = pi.x_at_mouse;
 
   // Shaft bending moment against its warning and yield.

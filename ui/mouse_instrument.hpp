@@ -1,15 +1,21 @@
 // Mouse and keyboard as the instrument's input device when no haptic device is connected.
-// The window's thread turns pointer drags and held keys into a grip pose (apply_mouse_input);
-// the haptic thread reads the newest pose as its device sample (MouseInstrumentDevice). The
-// mapping (docs/trainee-view.md):
+// The window's thread turns pointer drags, the wheel and held keys into the pose the grip is
+// to reach (apply_mouse_input); the haptic thread's device (MouseInstrumentDevice) moves the
+// grip toward it at a bounded speed, so a fast flick, or a slow window that sees a whole drag
+// in one frame, moves the instrument smoothly and loses nothing. The mapping (docs/trainee-view.md), shown on screen by the HUD:
 //   left-drag          move the instrument in the horizontal plane, relative to the view
 //                      (drag right: to the screen's right; drag up: away from the viewer)
+//   wheel              depth: forward (away from you) pushes the instrument in (down),
+//                      back draws it out, 0.5 mm a notch
+//   right-drag         depth, following the pointer: drag down = deeper, up = out
+//   Ctrl + left-drag   turn the instrument: up/down tilts the blade about the view's
+//                      horizontal axis (levers it), left/right rolls it about the depth axis
 //   W / S              raise / lower the instrument (Shift: three times faster)
-//   Q / E              tilt the instrument about the view's horizontal axis (lever the blade)
-//   A / D              roll it about the view's depth axis
+//   Q / E, A / D       tilt, roll (as Ctrl + left-drag)
 //   Space              hold still (ignore the mouse while held)
-// Moves are speed-limited (a drag cannot teleport the instrument): the device guard would
-// reject a jump anyway.
+// "Depth" is the world's vertical: every bundled module has the surgeon above the work,
+// looking down into it. The grip follows at most 20 mm/s and 2 rad/s (a drag cannot teleport
+// the instrument; the device guard would reject a jump anyway).
 #pragma once
 
 #include <mutex>
@@ -19,14 +25,24 @@
 
 namespace acdr {
 
-/// A device whose pose is set by another thread (the window's), read by the haptic thread.
+/// A device whose goal pose is set by another thread (the window's); the haptic thread's
+/// samples move toward it at a bounded speed.
 class MouseInstrumentDevice final : public InputDevice {
  public:
-  explicit MouseInstrumentDevice(const Pose& start) : pose_(start) {}
+  struct Speeds {
+    double max_speed_m_s = 0.02;
+    double max_turn_rad_s = 2.0;
+  };
+  explicit MouseInstrumentDevice(const Pose& start) : MouseInstrumentDevice(start, Speeds{}) {}
+  MouseInstrumentDevice(const Pose& start, const Speeds& speeds)
+      : goal_(start), pose_(start), speeds_(speeds) {}
 
-  /// Window thread: the pose to follow from now on.
-  void set_pose(const Pose& pose);
+  /// Window thread: the pose to reach from now on.
+  void set_pose(const Pose& goal);
+  /// The pose to reach (what the window's input moves).
   Pose pose() const;
+  /// Where the grip is (the last sample's pose).
+  Pose current() const;
   /// Window thread: the trainee has finished (the attempt ends at the next step).
   void request_end();
 
@@ -34,8 +50,11 @@ class MouseInstrumentDevice final : public InputDevice {
   bool live() const override { return true; }
 
  private:
-  mutable std::mutex mutex_;  ///< held only to copy a pose
+  mutable std::mutex mutex_;  ///< held only to copy or step a pose
+  Pose goal_;
   Pose pose_;
+  Speeds speeds_;
+  double last_t_s_ = -1.0;
   bool end_ = false;
 };
 
@@ -43,6 +62,10 @@ class MouseInstrumentDevice final : public InputDevice {
 struct MouseKeyInput {
   float drag_dx_px = 0.0f;  ///< left-button drag this frame (pixels, +x right)
   float drag_dy_px = 0.0f;  ///< (+y down, as on screen)
+  float depth_drag_px = 0.0f;  ///< right-button drag, vertical (+ down on screen = deeper)
+  float wheel_notches = 0.0f;  ///< + forward (away from the user) = deeper
+  float turn_dx_px = 0.0f;     ///< Ctrl + left drag: roll (+ right)
+  float turn_dy_px = 0.0f;     ///< tilt (+ down)
   bool up = false, down = false;             ///< W, S
   bool tilt_plus = false, tilt_minus = false;  ///< E, Q
   bool roll_plus = false, roll_minus = false;  ///< D, A
@@ -52,10 +75,14 @@ struct MouseKeyInput {
 };
 
 struct MouseMapping {
-  double metres_per_px = 0.1e-3;    ///< drag scale: 0.1 mm per pixel
-  double vertical_speed_m_s = 0.02; ///< W/S speed (x3 with Shift)
-  double turn_speed_rad_s = 0.8;    ///< Q/E, A/D
-  double max_step_m = 4.0e-3;       ///< the most one frame may move the grip
+  double metres_per_px = 0.1e-3;      ///< drag scale: 0.1 mm per pixel
+  double depth_per_notch_m = 0.5e-3;  ///< wheel: 0.5 mm a notch
+  double depth_per_px_m = 0.1e-3;     ///< right-drag: 0.1 mm per pixel
+  double turn_per_px_rad = 0.005;     ///< Ctrl + drag: 0.29 degrees per pixel
+  double vertical_speed_m_s = 0.02;   ///< W/S speed (x3 with Shift)
+  double turn_speed_rad_s = 0.8;      ///< Q/E, A/D
+  double max_step_m = 0.03;           ///< the most one frame may move the goal
+  double max_turn_rad = 0.5;          ///< the most one frame may turn it
 };
 
 /// The grip pose after one frame of input, moving relative to `camera`'s view.

@@ -23,6 +23,11 @@ void OrbitCamera::orbit(float dx_px, float dy_px, float rad_per_px) {
   pitch_ = std::clamp(pitch_ + dy_px * rad_per_px, -kMaxPitch, kMaxPitch);
 }
 
+void OrbitCamera::set_angles(float yaw_rad, float pitch_rad) {
+  yaw_ = yaw_rad;
+  pitch_ = std::clamp(pitch_rad, -kMaxPitch, kMaxPitch);
+}
+
 void OrbitCamera::zoom(float notches) {
   distance_ = std::clamp(distance_ * std::pow(0.88f, notches), 0.005f, 2.0f);
 }

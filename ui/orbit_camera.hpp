@@ -16,6 +16,10 @@ class OrbitCamera {
 
   /// Turns by pixel deltas of a drag (`rad_per_px` per pixel). Pitch stays within ±85°.
   void orbit(float dx_px, float dy_px, float rad_per_px = 0.006f);
+  /// Sets the direction the eye looks from, keeping the distance and the target: `yaw_rad`
+  /// about the vertical (0: from -y, looking along +y), `pitch_rad` the elevation above the
+  /// target's horizontal plane (within ±85°).
+  void set_angles(float yaw_rad, float pitch_rad);
   /// Zooms by wheel notches: each notch moves 12 % closer (positive) or farther.
   void zoom(float notches);
   /// Moves the target in the view plane by pixel deltas of a drag, in a viewport of height

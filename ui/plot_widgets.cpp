@@ -36,25 +36,33 @@ std::string tick_text(float v) {
 
 }  // namespace
 
+void draw_legend(std::span<const LegendItem> items, bool same_line_as_previous) {
+  const float chip = 10.0f, gap = 14.0f, inner = 4.0f;
+  bool first = !same_line_as_previous;
+  for (const LegendItem& item : items) {
+    const float need = chip + inner + ImGui::CalcTextSize(item.label.c_str()).x;
+    if (!first) {
+      ImGui::SameLine(0, gap);
+      if (ImGui::GetContentRegionAvail().x < need) ImGui::NewLine();
+    }
+    first = false;
+    ImGui::ColorButton(item.label.c_str(), ImGui::ColorConvertU32ToFloat4(item.color),
+                       ImGuiColorEditFlags_NoTooltip, ImVec2(chip, chip));
+    ImGui::SameLine(0, inner);
+    ImGui::TextUnformatted(item.label.c_str());
+  }
+}
+
 PlotInteraction draw_plot(const PlotOptions& o, std::span<const PlotSeries> series,
                           std::span<const PlotLine> lines, std::span<const PlotBand> bands) {
   PlotInteraction result;
   ImGui::PushID(o.id.c_str());
   // Title, then the legend as colour chips on the same line.
-  bool first = true;
-  if (!o.title.empty()) {
-    ImGui::TextUnformatted(o.title.c_str());
-    first = false;
-  }
-  for (const PlotSeries& s : series) {
-    if (s.label.empty()) continue;
-    if (!first) ImGui::SameLine(0, 14);
-    first = false;
-    ImGui::ColorButton(s.label.c_str(), ImGui::ColorConvertU32ToFloat4(s.color),
-                       ImGuiColorEditFlags_NoTooltip, ImVec2(10, 10));
-    ImGui::SameLine(0, 4);
-    ImGui::TextUnformatted(s.label.c_str());
-  }
+  if (!o.title.empty()) ImGui::TextUnformatted(o.title.c_str());
+  std::vector<LegendItem> legend;
+  for (const PlotSeries& s : series)
+    if (!s.label.empty()) legend.push_back({s.color, s.label});
+  draw_legend(legend, !o.title.empty());
 
   // Data ranges (NaN limits come from the data and the reference lines).
   float x0 = o.x_min, x1 = o.x_max, y0 = o.y_min, y1 = o.y_max;

@@ -71,6 +71,17 @@ struct PlotInteraction {
 };
 
 /// Draws the plot at the cursor position and advances the layout.
+/// One entry of a legend: a colour chip and what it stands for.
+struct LegendItem {
+  ImU32 color = 0;
+  std::string label;
+};
+
+/// A legend laid out as chips with their labels, moving to a new line wherever the next entry
+/// would not fit the width left (nothing is cut off). `same_line_as_previous`: start after the
+/// last item (e.g. a title) when the first entry fits there.
+void draw_legend(std::span<const LegendItem> items, bool same_line_as_previous = false);
+
 PlotInteraction draw_plot(const PlotOptions& options, std::span<const PlotSeries> series,
                           std::span<const PlotLine> lines = {},
                           std::span<const PlotBand> bands = {});

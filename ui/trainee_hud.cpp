@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "assessment/metric_labels.hpp"
 #include "assessment/zone_findings.hpp"
 #include "ui/imgui_style.hpp"
 #include "ui/score_table_view.hpp"
@@ -14,6 +15,9 @@ namespace acdr {
 namespace {
 
 ImU32 color_u32(const ImVec4& c) { return ImGui::ColorConvertFloat4ToU32(c); }
+
+// At most this many alert lines: more would hide the scene.
+constexpr std::size_t kMaxHudAlerts = 6;
 
 const ImVec4& level_color(AlertLevel level) {
   switch (level) {
@@ -30,7 +34,7 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
   return text;
 }
 
-// An alert for a recent event, or none (level kInfo with empty text).
+// An alert for a recent event that is not about a zone, or none (empty text).
 HudAlert alert_for_event(const Event& e) {
   switch (e.kind) {
     case EventKind::kOverloadYield:
@@ -47,18 +51,14 @@ HudAlert alert_for_event(const Event& e) {
       return {AlertLevel::kDanger, "Device silent: force switched off"};
     case EventKind::kNumerical:
       return {AlertLevel::kDanger, "Simulation failed (" + e.detail + ")"};
-    case EventKind::kNeverEvent:
-      return {AlertLevel::kDanger, "NEVER-EVENT: entered " + e.detail + " (the attempt fails)"};
-    case EventKind::kZoneEntry:
-      return {AlertLevel::kDanger, "Danger zone entered: " + e.detail};
-    case EventKind::kZoneForce:
-      return {AlertLevel::kWarning, "Force near " + e.detail + " above its limit (" +
-                                        format("%.2f N", e.value) + ")"};
-    case EventKind::kZoneWarning:
-      return {AlertLevel::kWarning, "Close to " + e.detail};
     default: break;
   }
   return {};
+}
+
+bool is_zone_event(EventKind kind) {
+  return kind == EventKind::kNeverEvent || kind == EventKind::kZoneEntry ||
+         kind == EventKind::kZoneForce || kind == EventKind::kZoneWarning;
 }
 
 }  // namespace
@@ -84,6 +84,8 @@ HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summa
   hud.particle_volume_m3 = summary.particle_volume_m3;
   hud.haptic_rate_hz = haptics.rate_hz;
   hud.target_rate_hz = haptics.target_rate_hz;
+  if (haptics.target_rate_hz > 0 && haptics.ticks > 100)
+    hud.realtime_factor = haptics.rate_hz / haptics.target_rate_hz;
 
   // Live state first: it is what the trainee must react to now.
   if (view.sample.stale)
@@ -96,34 +98,78 @@ HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summa
          "Shaft overload: " +
              format("%.0f %% of yield", 100.0 * f.bending_moment_Nm / summary.yield_moment_Nm) +
              ", ease off"});
-  // Zone proximity now: inside a zone is a danger, within its warning distance a warning.
-  for (int z = 0; z < f.zone_count && z < static_cast<int>(f.zones.size()); ++z) {
-    const std::string name = static_cast<std::size_t>(z) < summary.zones.size()
-                                 ? summary.zones[static_cast<std::size_t>(z)].name
-                                 : "zone " + std::to_string(z);
-    if (f.zones[z].inside)
-      hud.alerts.push_back({AlertLevel::kDanger, "Inside " + name + ": withdraw"});
-    else if (f.zones[z].warning)
-      hud.alerts.push_back(
-          {AlertLevel::kWarning,
-           "Close to " + name + ": " + format("%.1f mm", 1e3 * f.zones[z].distance_m)});
-  }
   if (!f.input_valid && !view.sample.stale)
     hud.alerts.push_back({AlertLevel::kWarning, "Device pose rejected: holding the instrument"});
-  // Then recent events, newest first, one alert per distinct text.
+
+  // One line per zone, with its latest state: inside, close, or what happened in the last
+  // `recent_s` (entered, force over its limit); a never-event stays said to the end.
+  const int zones = std::min<int>(f.zone_count, static_cast<int>(f.zones.size()));
+  for (int z = 0; z < zones; ++z) {
+    const std::string name = static_cast<std::size_t>(z) < summary.zones.size()
+                                 ? zone_display_name(summary.zones[static_cast<std::size_t>(z)].name)
+                                 : "zone " + std::to_string(z + 1);
+    const char* zone_word = name.find("zone") == std::string::npos ? " zone" : "";
+    bool never = false, entered = false;
+    double over_force = 0.0;
+    for (const Event& e : view.events) {
+      if (e.zone != z) continue;
+      never = never || e.kind == EventKind::kNeverEvent;
+      const bool recent = e.t_s >= f.t_s - recent_s;
+      entered = entered || (recent && e.kind == EventKind::kZoneEntry);
+      if (recent && e.kind == EventKind::kZoneForce) over_force = std::max(over_force, e.value);
+    }
+    std::string text;
+    AlertLevel level = AlertLevel::kWarning;
+    if (f.zones[z].inside) {
+      text = "Inside the " + name + zone_word + ": withdraw.";
+      level = AlertLevel::kDanger;
+    } else if (f.zones[z].warning) {
+      text = "Close to the " + name + zone_word + ": " +
+             format("%.1f mm away.", 1e3 * f.zones[z].distance_m);
+    } else if (entered) {
+      text = "Entered the " + name + zone_word + " just now.";
+      level = AlertLevel::kDanger;
+    }
+    if (over_force > 0) {
+      text += (text.empty() ? "Force near the " + name + zone_word : std::string(" Force")) +
+              " over its limit (" + format("%.2f N", over_force) + ").";
+      level = std::max(level, AlertLevel::kWarning);
+    }
+    if (never) {
+      text = (text.empty() ? "Entered the " + name + zone_word + "." : text) +
+             " A never-event: the attempt fails.";
+      level = AlertLevel::kDanger;
+    }
+    if (!text.empty()) hud.alerts.push_back({level, text});
+  }
+  // Then other recent events, newest first, one line for each kind.
+  std::vector<EventKind> said;
   for (auto it = view.events.rbegin(); it != view.events.rend(); ++it) {
     if (it->t_s < f.t_s - recent_s) break;
+    if (is_zone_event(it->kind)) continue;
+    if (std::find(said.begin(), said.end(), it->kind) != said.end()) continue;
     HudAlert a = alert_for_event(*it);
     if (a.text.empty()) continue;
+    said.push_back(it->kind);
     const bool seen = std::any_of(hud.alerts.begin(), hud.alerts.end(),
                                   [&](const HudAlert& b) { return b.text == a.text; });
     if (!seen) hud.alerts.push_back(std::move(a));
-    if (hud.alerts.size() >= 5) break;
   }
   std::stable_sort(hud.alerts.begin(), hud.alerts.end(), [](const HudAlert& a, const HudAlert& b) {
     return static_cast<int>(a.level) > static_cast<int>(b.level);
   });
+  if (hud.alerts.size() > kMaxHudAlerts) hud.alerts.resize(kMaxHudAlerts);
   return hud;
+}
+
+bool is_slow_motion(double factor) { return factor > 0 && factor < 0.95; }
+
+std::string realtime_text(double factor) {
+  if (factor <= 0) return "";
+  if (is_slow_motion(factor))
+    return format("%.2fx real time: slow motion. ", factor) +
+           "Use a coarser lattice (a larger particle spacing) or a faster machine.";
+  return format("Real time (%.2fx)", std::min(factor, 1.0));
 }
 
 void draw_gauge(const char* label, double value, double full, double warn, double danger,
@@ -204,30 +250,51 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
   draw_gauge("Shaft load (overload)", hud.moment_Nm, hud.yield_moment_Nm * 1.2,
              hud.warning_moment_Nm, hud.yield_moment_Nm, text);
   ImGui::TextColored(ui_colors::kMuted, "Tissue force %.2f N", hud.tissue_force_N);
-  const bool slow = hud.target_rate_hz > 0 && hud.haptic_rate_hz < 0.95 * hud.target_rate_hz;
-  ImGui::TextColored(slow ? ui_colors::kWarning : ui_colors::kMuted, "Haptic loop %.0f Hz%s",
-                     hud.haptic_rate_hz, slow ? " (below target)" : "");
+  // The real-time factor: a slow-motion attempt is said plainly, with what to do.
+  if (is_slow_motion(hud.realtime_factor)) {
+    ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x);
+    ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kWarning);
+    ImGui::TextWrapped("%s", realtime_text(hud.realtime_factor).c_str());
+    ImGui::PopStyleColor();
+    ImGui::PopTextWrapPos();
+  } else if (hud.realtime_factor > 0) {
+    ImGui::TextColored(ui_colors::kMuted, "%s, haptic loop %.0f Hz",
+                       realtime_text(hud.realtime_factor).c_str(), hud.haptic_rate_hz);
+  }
   ImGui::End();
 
-  // Alerts: a banner under the module window, most severe first.
+  // Alerts: most severe first, in the column between the module and the status windows (they
+  // never cover the goal or the gauges); a long line wraps.
   if (!hud.alerts.empty()) {
-    ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, margin), ImGuiCond_Always, ImVec2(0.5f, 0));
+    const float left = margin + goal_width + margin;
+    const float width = std::max(200.0f, display.x - status_width - margin - left - margin);
+    ImGui::SetNextWindowPos(ImVec2(left, margin));
+    ImGui::SetNextWindowSize(ImVec2(width, 0));
     ImGui::SetNextWindowBgAlpha(0.85f);
     ImGui::Begin("Alerts", nullptr,
                  fixed | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoTitleBar);
-    for (const HudAlert& a : hud.alerts)
-      ImGui::TextColored(level_color(a.level), "%s %s",
-                         a.level == AlertLevel::kDanger ? "[!]" : "[~]", a.text.c_str());
+    ImGui::PushTextWrapPos(width - ImGui::GetStyle().WindowPadding.x);
+    for (const HudAlert& a : hud.alerts) {
+      ImGui::PushStyleColor(ImGuiCol_Text, level_color(a.level));
+      ImGui::TextWrapped("%s %s", a.level == AlertLevel::kDanger ? "[!]" : "[~]", a.text.c_str());
+      ImGui::PopStyleColor();
+    }
+    ImGui::PopTextWrapPos();
     ImGui::End();
   }
 
   // Controls: bottom left.
   ImGui::SetNextWindowPos(ImVec2(margin, display.y - margin), ImGuiCond_Always, ImVec2(0, 1));
   ImGui::Begin("Controls", nullptr, fixed | ImGuiWindowFlags_AlwaysAutoResize);
-  ImGui::TextColored(ui_colors::kMuted, "Camera: right-drag orbit, wheel zoom, middle-drag pan");
   if (hud.mouse_mode) {
-    ImGui::TextColored(ui_colors::kMuted, "Instrument: left-drag move, W/S up/down,");
-    ImGui::TextColored(ui_colors::kMuted, "  Q/E tilt blade, A/D roll, Space hold still");
+    // The instrument's controls first: they are what a trainee needs to learn.
+    ImGui::TextColored(ui_colors::kInfo, "Instrument (mouse)");
+    ImGui::TextUnformatted("Left-drag: move across  |  Wheel or right-drag: depth");
+    ImGui::TextUnformatted("Ctrl + left-drag: tilt / roll the cup  |  Space: hold still");
+    ImGui::TextColored(ui_colors::kMuted,
+                       "Camera: middle-drag orbit, Shift + middle-drag pan, Ctrl + wheel zoom");
+  } else {
+    ImGui::TextColored(ui_colors::kMuted, "Camera: right-drag orbit, wheel zoom, middle-drag pan");
   }
   const bool finish = ImGui::Button("Finish attempt (Enter)");
   ImGui::SameLine();
@@ -255,6 +322,7 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
   s.passed = run.score.passed;
   s.end_reason = attempt_end_name(run.end);
   s.duration_s = run.record.frames.empty() ? 0.0 : run.record.frames.back().t_s;
+  s.realtime_factor = run.wall_s > 0 ? s.duration_s / run.wall_s : 0.0;
   s.status_line = status_line;
   s.consecutive_passes_to_master = scenario.rubric.consecutive_passes_to_master;
   s.rows = score_table(run.metrics, run.score, &scenario.rubric, ScoreTableScope::kAssessed);
@@ -287,7 +355,11 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
       said = said || (row.judgement == MetricJudgement::kGated && !row.good &&
                       r.rfind(row.metric + " = ", 0) == 0);
     said = said || (!s.zone_findings.empty() && r.rfind("never-event:", 0) == 0);
-    if (!said) s.improvements.push_back(r);
+    if (!said && !r.empty()) {
+      std::string line = r;  // a sentence on the screen
+      line[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(line[0])));
+      s.improvements.push_back(line + (line.back() == '.' ? "" : "."));
+    }
   }
   if (s.improvements.empty())
     s.improvements.push_back(
@@ -307,6 +379,13 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
                    ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
   ImGui::TextColored(ui_colors::kInfo, "%s", s.title.c_str());
   ImGui::Text("Ended: %s after %.1f s", s.end_reason.c_str(), s.duration_s);
+  if (is_slow_motion(s.realtime_factor)) {
+    ImGui::PushTextWrapPos(width - ImGui::GetStyle().WindowPadding.x);
+    ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kWarning);
+    ImGui::TextWrapped("The simulation ran at %s", realtime_text(s.realtime_factor).c_str());
+    ImGui::PopStyleColor();
+    ImGui::PopTextWrapPos();
+  }
   ImGui::Separator();
   ImGui::SetWindowFontScale(2.0f);
   ImGui::Text("Score %.1f / 100", s.score);

@@ -45,6 +45,8 @@ struct HudModel {
   double particle_volume_m3 = 0.0;
   double haptic_rate_hz = 0.0;    ///< achieved haptic loop rate
   double target_rate_hz = 0.0;
+  /// Simulated seconds per wall second so far (haptic rate / target rate); 0: not known yet.
+  double realtime_factor = 0.0;
   bool mouse_mode = false;        ///< the mouse drives the instrument (show the mapping)
   bool stress_view_available = false;  ///< the scene models the bone: offer its stress view
   bool stress_view_on = false;
@@ -64,6 +66,12 @@ struct HudActions {
   bool toggle_stress_view = false;  ///< "Bone stress" clicked
 };
 
+/// "0.37x real time: slow motion. Use a coarser lattice or a faster machine." below 0.95;
+/// "real time (1.00x)" at or above it; "" when `factor` <= 0 (not known).
+std::string realtime_text(double factor);
+/// Whether `factor` is slow motion (known and below 0.95).
+bool is_slow_motion(double factor);
+
 /// Draws the HUD for a display of `display` pixels. `actions` may be null.
 void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* actions);
 
@@ -74,6 +82,7 @@ struct ScoreScreenModel {
   bool passed = false;
   std::string end_reason;   ///< "time limit", "input ended", ...
   double duration_s = 0.0;
+  double realtime_factor = 0.0;  ///< simulated / wall time of the attempt; 0: not known
   std::vector<ScoreTableRow> rows;  ///< the scored metrics, then the safety gates
   std::vector<std::string> zone_findings;  ///< what happened near the danger zones, in words
   std::vector<std::string> improvements;  ///< what to improve, in words

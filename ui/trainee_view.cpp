@@ -2,6 +2,7 @@
 #include "ui/trainee_view.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <thread>
@@ -15,6 +16,7 @@
 #include <GLFW/glfw3.h>
 
 #include "engine/anatomy/anatomy.hpp"
+#include "ui/depth_cue.hpp"
 #include "ui/display.hpp"
 #include "ui/imgui_gl_renderer.hpp"
 #include "ui/imgui_style.hpp"
@@ -33,6 +35,12 @@ using Clock = std::chrono::steady_clock;
 
 // ~60 Hz even without vsync (Xvfb): the haptic thread needs the CPU more than extra frames do.
 constexpr auto kFramePeriod = std::chrono::microseconds(16667);
+// Mouse mode's camera: from the side (+x), 35 degrees above the horizontal, so that depth
+// shows as up and down on the screen and the disc space is seen edge-on between the bodies
+// (from the feet, the lower vertebra hides it). A drag to the right moves toward the head,
+// a drag up moves away across the work.
+constexpr float kMouseViewYawRad = 1.5708f;
+constexpr float kMouseViewPitchRad = 0.61f;
 
 bool key_down(GLFWwindow* w, int key) { return glfwGetKey(w, key) == GLFW_PRESS; }
 
@@ -88,22 +96,25 @@ struct TraineeView::Window {
   std::unique_ptr<GlfwWindow> window;
   std::unique_ptr<SceneRenderer> renderer;
   WindowImGui imgui;
+  std::atomic<std::uint64_t>* frames_shown = nullptr;  ///< TraineeView's counter
   std::unique_ptr<MouseInstrumentDevice> mouse;  ///< when the view drives the instrument
   InputDevice* device = nullptr;
   std::string input_label;
   LiveView view;  ///< the newest live view (the last one once the attempt has ended)
   OrbitCamera orbit;
   bool camera_ready = false;
-  KeyEdge enter_key, reset_key, stress_key, beads_key;
+  KeyEdge enter_key, keypad_enter_key, reset_key, stress_key, beads_key;
   bool stress_view = false;  ///< the bone stress view is on (key B or the Controls checkbox)
   bool stress_key_pressed = false;
   LiveBoneStress stress;
   std::vector<std::uint64_t> bone_ids;  ///< the anatomy's vertebra meshes in the scene
   SnapshotOptions drawing;        ///< surfaces or beads (key P)
   MaterialSurfaceCache surfaces;  ///< material surfaces kept while their particles rest
+  DepthReference depth;  ///< mouse mode: what the depth cue measures against
 
   // One frame's state between begin_frame and end_frame.
   Clock::time_point frame_start;
+  Clock::time_point last_input = Clock::now();  ///< the last frame that read the keys
   int fb_w = 0, fb_h = 0;
   float aspect = 1.0f;
   RenderScene scene;
@@ -124,29 +135,45 @@ struct TraineeView::Window {
     drawing.cache = &surfaces;
     scene = snapshot_state(*world, view.state, aspect, {}, drawing);
     if (!camera_ready) {
-      orbit.reset(scene.camera);
+      reset_camera();
       camera_ready = true;
     }
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
     const ImGuiIO& io = ImGui::GetIO();
-    // Camera: right-drag orbit, wheel zoom, middle-drag pan (unless over a HUD window).
+    // Camera (unless over a HUD window). With a device: right-drag orbit, wheel zoom,
+    // middle-drag pan. In mouse mode the left and right buttons and the wheel move the
+    // instrument, so: middle-drag orbit, Shift + middle-drag pan, Ctrl + wheel zoom.
     if (!io.WantCaptureMouse) {
-      if (io.MouseDown[1]) orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
-      if (io.MouseDown[2]) orbit.pan(io.MouseDelta.x, io.MouseDelta.y, io.DisplaySize.y);
-      if (io.MouseWheel != 0.0f) orbit.zoom(io.MouseWheel);
+      if (!mouse) {
+        if (io.MouseDown[1]) orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
+        if (io.MouseDown[2]) orbit.pan(io.MouseDelta.x, io.MouseDelta.y, io.DisplaySize.y);
+        if (io.MouseWheel != 0.0f) orbit.zoom(io.MouseWheel);
+      } else {
+        if (io.MouseDown[2] && io.KeyShift)
+          orbit.pan(io.MouseDelta.x, io.MouseDelta.y, io.DisplaySize.y);
+        else if (io.MouseDown[2])
+          orbit.orbit(io.MouseDelta.x, io.MouseDelta.y);
+        if (io.MouseWheel != 0.0f && io.KeyCtrl) orbit.zoom(io.MouseWheel);
+      }
     }
     GLFWwindow* handle = window->handle();
     const bool keyboard_free = !io.WantCaptureKeyboard;
-    if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) orbit.reset(scene.camera);
+    if (keyboard_free && reset_key.pressed(handle, GLFW_KEY_R)) reset_camera();
     stress_key_pressed = keyboard_free && stress_key.pressed(handle, GLFW_KEY_B);
     if (keyboard_free && beads_key.pressed(handle, GLFW_KEY_P)) {
       drawing.drawing = drawing.drawing == MaterialDrawing::kBeads ? MaterialDrawing::kSurfaces
                                                                    : MaterialDrawing::kBeads;
     }
     enter = keyboard_free && (enter_key.pressed(handle, GLFW_KEY_ENTER) ||
-                              enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
+                              keypad_enter_key.pressed(handle, GLFW_KEY_KP_ENTER));
     return true;
+  }
+
+  // The default view of the work area; in mouse mode from the side and lower down.
+  void reset_camera() {
+    orbit.reset(scene.camera);
+    if (mouse) orbit.set_angles(kMouseViewYawRad, kMouseViewPitchRad);
   }
 
   // The instrument from the mouse and keyboard, when the view drives it.
@@ -155,10 +182,20 @@ struct TraineeView::Window {
     const ImGuiIO& io = ImGui::GetIO();
     GLFWwindow* handle = window->handle();
     MouseKeyInput in;
-    in.dt_s = 1.0 / 60.0;
-    if (!io.WantCaptureMouse && io.MouseDown[0]) {
-      in.drag_dx_px = io.MouseDelta.x;
-      in.drag_dy_px = io.MouseDelta.y;
+    // Held keys move by the time since the last frame (a slow window moves as far).
+    in.dt_s = std::clamp(std::chrono::duration<double>(frame_start - last_input).count(), 0.0,
+                         0.25);
+    last_input = frame_start;
+    if (!io.WantCaptureMouse) {
+      if (io.MouseDown[0] && io.KeyCtrl) {
+        in.turn_dx_px = io.MouseDelta.x;
+        in.turn_dy_px = io.MouseDelta.y;
+      } else if (io.MouseDown[0]) {
+        in.drag_dx_px = io.MouseDelta.x;
+        in.drag_dy_px = io.MouseDelta.y;
+      }
+      if (io.MouseDown[1]) in.depth_drag_px = io.MouseDelta.y;
+      if (!io.KeyCtrl) in.wheel_notches = io.MouseWheel;
     }
     if (!io.WantCaptureKeyboard) {
       in.up = key_down(handle, GLFW_KEY_W);
@@ -173,6 +210,14 @@ struct TraineeView::Window {
     mouse->set_pose(apply_mouse_input(mouse->pose(), in, orbit.camera()));
   }
 
+  // Mouse mode: the drop line to the surface and the depth gauge.
+  void draw_depth_cue() {
+    if (!mouse) return;
+    const DepthCue cue = make_depth_cue(depth, view.state.frame);
+    draw_depth_drop_line(cue, orbit.camera(), ImGui::GetIO().DisplaySize);
+    draw_depth_gauge(cue, ImGui::GetIO().DisplaySize);
+  }
+
   // Draws the scene and the overlay built since begin_frame.
   void render() {
     scene.camera = orbit.camera();
@@ -184,6 +229,7 @@ struct TraineeView::Window {
   // Shows the frame and paces the loop.
   void end_frame() {
     window->swap_buffers();
+    frames_shown->fetch_add(1, std::memory_order_relaxed);
     std::this_thread::sleep_until(frame_start + kFramePeriod);
   }
 };
@@ -208,6 +254,9 @@ bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputD
   w->renderer = SceneRenderer::create(w->window->gl(), error);
   if (!w->renderer) return false;
   if (!w->imgui.init(*w->window, error)) return false;
+  // A key pressed and released between two frames still counts (a slow frame loses no Enter).
+  glfwSetInputMode(w->window->handle(), GLFW_STICKY_KEYS, GLFW_TRUE);
+  w->frames_shown = &frames_shown_;
   // The instrument's input: the given device, or the mouse and keyboard.
   w->device = device;
   if (!device) {
@@ -222,6 +271,7 @@ bool TraineeView::open(const ScenarioModel& scenario, const World& world, InputD
                             : (options_.input_label.empty() ? "device" : options_.input_label);
   // The first view straight from the world, before anything steps it.
   capture_world_state(world, w->view.state);
+  w->depth = depth_reference(world, w->view.state);
   window_ = std::move(w);
   return true;
 }
@@ -260,8 +310,8 @@ void TraineeView::watch(LiveAttempt& live) {
       w.stress.apply(w.scene, w.bone_ids);
       w.stress.draw_legend(ImGui::GetIO().DisplaySize);
     }
-    if (actions.reset_camera)
-      w.orbit.reset(snapshot_state(*w.world, w.view.state, w.aspect).camera);
+    w.draw_depth_cue();
+    if (actions.reset_camera) w.reset_camera();
     if ((actions.finish || w.enter) && !finished) {
       // "Done": score what was done (for the mouse through the device, like a bridge's
       // end-of-attempt).

@@ -7,6 +7,8 @@
 // AttemptView: open, watch the live attempt, show the score.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -49,12 +51,16 @@ class TraineeView final : public AttemptView {
 
   /// Why a requested picture could not be written (empty: none failed).
   const std::string& picture_error() const { return picture_error_; }
+  /// Frames shown so far (any thread may ask): lets a test that sends input through the X
+  /// server wait until the window has read it.
+  std::uint64_t frames_shown() const { return frames_shown_.load(std::memory_order_relaxed); }
 
  private:
   struct Window;  // GLFW, GL and ImGui: only trainee_view.cpp knows them
   TraineeViewOptions options_;
   std::unique_ptr<Window> window_;
   std::string picture_error_;
+  std::atomic<std::uint64_t> frames_shown_{0};
 };
 
 }  // namespace acdr

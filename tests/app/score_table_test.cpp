@@ -82,14 +82,13 @@ TEST(ScoreTable, BenchmarkTextsSayWhatEachRowIsHeldTo) {
   EXPECT_EQ(benchmark_text(unknown[0]), "benchmark unknown");
 }
 
-TEST(ScoreTable, LabelsAreWrittenOrDerivedFromTheName) {
-  EXPECT_EQ(metric_label("peak_instrument_force_N"), "Peak instrument force (N)");
-  EXPECT_EQ(metric_label("zone_dwell_s"), "Time near danger zones (s)");
-  EXPECT_EQ(metric_label("artery_left_closest_mm"), "Artery left closest (mm)");
-  EXPECT_EQ(metric_label("never_events"), "Never-events");
-  // Per-zone metrics read with the zone's name.
-  EXPECT_EQ(metric_label("zone.spinal_cord_pll.peak_force_N"), "Spinal cord / PLL: peak force (N)");
-  EXPECT_EQ(metric_label("zone.vertebral_artery_l.dwell_s"), "Vertebral artery l: dwell (s)");
+TEST(ScoreTable, RowsCarryTheCataloguesLabels) {
+  Metrics metrics;
+  metrics.values = {{"zone.spinal_cord_pll.peak_force_N", 0.4}, {"duration_s", 3.0}};
+  const auto rows = score_table(metrics, ScoreResult{}, nullptr, ScoreTableScope::kAllMetrics);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].label, "Spinal cord / PLL: peak force near it (N)");
+  EXPECT_EQ(rows[1].label, "Duration (s)");
 }
 
 // The scale, in words every screen shows: 50, 10 points per SD, the direction, the task rule.

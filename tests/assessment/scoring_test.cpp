@@ -66,7 +66,7 @@ TEST(Scoring, NeverEventFailsWhateverTheRubricAndNamesTheZone) {
   EXPECT_GT(s.score, 50.0);
   EXPECT_FALSE(s.passed);
   ASSERT_EQ(s.reasons.size(), 1u);
-  EXPECT_NE(s.reasons[0].find("spinal_cord_pll"), std::string::npos) << s.reasons[0];
+  EXPECT_NE(s.reasons[0].find("the spinal cord / PLL zone"), std::string::npos) << s.reasons[0];
   EXPECT_EQ(s.reasons[0].find("vertebral_artery_left"), std::string::npos) << s.reasons[0];
 }
 

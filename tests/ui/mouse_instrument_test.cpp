@@ -42,7 +42,7 @@ TEST(MouseInstrument, KeysRaiseLowerAndTiltAtTheirSpeeds) {
   in.dt_s = 0.1;
   EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.z(), 0.002, 1e-12);
   in.fast = true;
-  EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.z(), 0.004, 1e-12);  // capped
+  EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.z(), 0.006, 1e-12);
   in = {};
   in.tilt_plus = true;
   in.dt_s = 0.5;
@@ -54,29 +54,61 @@ TEST(MouseInstrument, KeysRaiseLowerAndTiltAtTheirSpeeds) {
   EXPECT_GT(std::abs(axis.y()), 0.3);
 }
 
-TEST(MouseInstrument, OneFrameCannotTeleportAndHoldFreezes) {
+TEST(MouseInstrument, WheelAndRightDragSetTheDepthAndCtrlDragTurns) {
+  const Pose start;
+  MouseKeyInput in;
+  in.wheel_notches = 4;  // forward: in, 0.5 mm a notch
+  EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.z(), -2e-3, 1e-12);
+  in = {};
+  in.depth_drag_px = -30;  // up the screen: out, 0.1 mm a pixel
+  EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.z(), 3e-3, 1e-12);
+  EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.x(), 0.0, 1e-12);
+  in = {};
+  in.turn_dy_px = 40;  // Ctrl + drag down: tilt about the view's right axis (x)
+  const Pose tilted = apply_mouse_input(start, in, looking_north());
+  EXPECT_NEAR(start.orientation.angularDistance(tilted.orientation), 0.2, 1e-9);
+  EXPECT_EQ(tilted.position, start.position);
+  const Vec3 axis = tilted.orientation * Vec3::UnitZ();
+  EXPECT_NEAR(axis.x(), 0.0, 1e-9);
+}
+
+TEST(MouseInstrument, OneFrameMovesTheGoalAtMostItsCapAndHoldFreezes) {
   const Pose start;
   MouseKeyInput in;
   in.drag_dx_px = 5000;
-  EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.norm(), 4e-3, 1e-12);
+  EXPECT_NEAR(apply_mouse_input(start, in, looking_north()).position.norm(), 0.03, 1e-12);
   in.hold = true;
   EXPECT_EQ(apply_mouse_input(start, in, looking_north()).position, start.position);
 }
 
-TEST(MouseInstrument, DeviceGivesTheNewestPoseAndTheEnd) {
+TEST(MouseInstrument, DeviceFollowsTheGoalAtItsSpeedAndGivesTheEnd) {
   Pose start;
   start.position = Vec3(0, 0, 0.1);
-  MouseInstrumentDevice device(start);
+  MouseInstrumentDevice device(start);  // 20 mm/s, 2 rad/s
   DeviceSample s;
   ASSERT_TRUE(device.sample(0.001, s));
   EXPECT_EQ(s.pose.position, start.position);
   EXPECT_FALSE(s.end);
-  Pose moved = start;
-  moved.position.x() = 0.01;
-  device.set_pose(moved);
+  Pose goal = start;
+  goal.position.x() = 0.01;  // 10 mm away: 0.5 s at 20 mm/s
+  goal.orientation = Quat(Eigen::AngleAxisd(0.1, Vec3::UnitX()));
+  device.set_pose(goal);
+  EXPECT_EQ(device.pose().position, goal.position);  // the goal, for the window
+  ASSERT_TRUE(device.sample(0.011, s));              // 10 ms later: 0.2 mm and 0.02 rad on
+  EXPECT_NEAR(s.pose.position.x(), 0.2e-3, 1e-12);
+  EXPECT_NEAR(start.orientation.angularDistance(s.pose.orientation), 0.02, 1e-9);
+  EXPECT_EQ(device.current().position, s.pose.position);
+  double t = 0.011;
+  for (int i = 0; i < 600; ++i) {  // then it arrives, and no sample moved more than 1 ms allows
+    const Vec3 before = s.pose.position;
+    t += 0.001;
+    ASSERT_TRUE(device.sample(t, s));
+    ASSERT_LE((s.pose.position - before).norm(), 0.02e-3 + 1e-12);
+  }
+  EXPECT_NEAR((s.pose.position - goal.position).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(s.pose.orientation.angularDistance(goal.orientation), 0.0, 1e-9);
   device.request_end();
-  ASSERT_TRUE(device.sample(0.002, s));
-  EXPECT_EQ(s.pose.position, moved.position);
+  ASSERT_TRUE(device.sample(t + 0.001, s));
   EXPECT_TRUE(s.end);
 }
 

@@ -11,6 +11,7 @@
 #include "scenarios/scenario_loader.hpp"
 #include "tests/ui/image_probe.hpp"
 #include "tests/ui/test_record.hpp"
+#include "tests/ui/text_fit_probe.hpp"
 #include "ui/imgui_offscreen.hpp"
 #include "ui/png_writer.hpp"
 #include "ui/render_camera.hpp"
@@ -52,11 +53,23 @@ TEST(TraineeHud, AlertsComeFromLiveStateAndRecentEvents) {
   view.events.push_back(Event{5.0, EventKind::kInputRejected, 0.05, "pose jump"});
   view.events.push_back(Event{9.0, EventKind::kForceClamped, 4.2, "force above device maximum"});
   const HudModel hud = make_hud_model(*scenario, world.summary(), view, loop, "mouse");
+  EXPECT_NEAR(hud.realtime_factor, 0.0, 1e-12);  // too few ticks to say
   ASSERT_EQ(hud.alerts.size(), 3u);
   EXPECT_EQ(hud.alerts[0].level, AlertLevel::kDanger);  // most severe first
   EXPECT_NE(hud.alerts[0].text.find("silent"), std::string::npos);
   EXPECT_NE(hud.alerts[1].text.find("overload"), std::string::npos);
   EXPECT_NE(hud.alerts[2].text.find("4.2 N"), std::string::npos);  // the recent clamp only
+
+  // The real-time factor, once the loop has run a while: 600 of 1000 Hz is slow motion.
+  loop.ticks = 5000;
+  EXPECT_NEAR(make_hud_model(*scenario, world.summary(), view, loop, "mouse").realtime_factor,
+              0.6, 1e-12);
+  EXPECT_TRUE(is_slow_motion(0.6));
+  EXPECT_NE(realtime_text(0.6).find("0.60x real time: slow motion"), std::string::npos);
+  EXPECT_NE(realtime_text(0.6).find("coarser lattice"), std::string::npos);
+  EXPECT_FALSE(is_slow_motion(0.97));
+  EXPECT_EQ(realtime_text(1.02), "Real time (1.00x)");
+  EXPECT_EQ(realtime_text(0.0), "");
 
   // Above yield it is a danger.
   view.sample.stale = false;
@@ -153,8 +166,36 @@ TEST(TraineeHud, ZoneTurnsItsWarningColourAndTheHudNamesIt) {
                                       "mouse");
   ASSERT_FALSE(hud.alerts.empty());
   EXPECT_EQ(hud.alerts[0].level, AlertLevel::kWarning);
-  EXPECT_NE(hud.alerts[0].text.find(zones[artery].name), std::string::npos) << hud.alerts[0].text;
+  // By its human name ("left vertebral artery"), not its id.
+  EXPECT_NE(hud.alerts[0].text.find(zone_display_name(zones[artery].name)), std::string::npos)
+      << hud.alerts[0].text;
+  EXPECT_EQ(hud.alerts[0].text.find('_'), std::string::npos) << hud.alerts[0].text;
   EXPECT_NE(hud.alerts[0].text.find("1.5 mm"), std::string::npos) << hud.alerts[0].text;
+
+  // Inside the zone with its entry, its force events and a never-event: one line, its latest
+  // state; three clamps: one line.
+  f.zones[artery].warning = false;
+  f.zones[artery].inside = true;
+  f.t_s = 10.0;
+  const int z = static_cast<int>(artery);
+  LiveView busy = view;
+  busy.events = {Event{9.0, EventKind::kZoneWarning, 0.002, zones[artery].name, z},
+                 Event{9.2, EventKind::kZoneEntry, 0.0, zones[artery].name, z},
+                 Event{9.2, EventKind::kNeverEvent, 0.0, zones[artery].name, z},
+                 Event{9.3, EventKind::kZoneForce, 1.4, zones[artery].name, z},
+                 Event{9.4, EventKind::kForceClamped, 3.6, "", -1},
+                 Event{9.5, EventKind::kForceClamped, 3.9, "", -1},
+                 Event{9.6, EventKind::kForceClamped, 4.3, "", -1}};
+  const HudModel inside = make_hud_model(*loaded.model, world.summary(), busy, HapticLoopStats{},
+                                         "mouse");
+  ASSERT_EQ(inside.alerts.size(), 2u);
+  EXPECT_EQ(inside.alerts[0].level, AlertLevel::kDanger);
+  const std::string& line = inside.alerts[0].text;
+  EXPECT_NE(line.find("Inside the " + zone_display_name(zones[artery].name)), std::string::npos)
+      << line;
+  EXPECT_NE(line.find("1.40 N"), std::string::npos) << line;
+  EXPECT_NE(line.find("never-event"), std::string::npos) << line;
+  EXPECT_NE(inside.alerts[1].text.find("4.3 N"), std::string::npos);  // the newest clamp
 
   std::string error;
   auto ui = ImGuiOffscreen::create(w, h, &error);
@@ -260,11 +301,80 @@ TEST(TraineeHud, ScoreScreenNamesTheZoneAndExplainsTheScale) {
   auto ui = ImGuiOffscreen::create(w, h, &error);
   ASSERT_TRUE(ui) << error;
   Image im{w, h, {}};
-  ASSERT_TRUE(ui->render(nullptr, [&] { draw_score_screen(s, ImVec2(w, h)); }, &im.rgb, &error));
+  std::vector<std::string> overflows;
+  ASSERT_TRUE(ui->render(
+      nullptr,
+      [&] {
+        draw_score_screen(s, ImVec2(w, h));
+        overflows = test::text_overflows(ImVec2(w, h));
+      },
+      &im.rgb, &error));
   EXPECT_GT(im.fraction(is_alert_red), 0.0005);
+  for (const std::string& o : overflows) ADD_FAILURE() << o;  // every label fits at 1280 x 800
+  EXPECT_TRUE(write_png_rgb("score_screen_1280x800.png", w, h, im.rgb, &error)) << error;
   if (const char* out = std::getenv("ACDR_TEST_SCREENSHOTS")) {
     EXPECT_TRUE(write_png_rgb(std::string(out) + "/score_screen_zone.png", w, h, im.rgb, &error)) << error;
   }
+}
+
+// The live HUD of module 02 at 1280 x 800 in mouse mode with every part showing at once (a
+// zone entered with a never-event and its force, another zone close, repeated clamps, the
+// shaft over its warning, slow motion): no text is cut off, no window covers the goal, zones
+// read by their names. The picture is kept as trainee_hud_1280x800.png.
+TEST(TraineeHud, EveryHudLabelFitsAt1280x800) {
+  LoadResult loaded =
+      load_scenario_file(std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/02_c4c5_healthy.json");
+  ASSERT_TRUE(loaded.ok()) << to_string(loaded.errors);
+  World world(loaded.model->world);
+  const auto& zones = world.anatomy()->zones();
+  ASSERT_GE(zones.size(), 2u);
+  LiveView view;
+  capture_world_state(world, view.state);
+  Frame& f = view.state.frame;
+  f.t_s = 42.0;
+  f.zones[0].inside = true;
+  f.zones[1].warning = true;
+  f.zones[1].distance_m = 1.2e-3f;
+  f.bending_moment_Nm = 1.1 * world.summary().warning_moment_Nm;
+  view.events = {Event{41.0, EventKind::kZoneEntry, 0.0, zones[0].name, 0},
+                 Event{41.0, EventKind::kNeverEvent, 0.0, zones[0].name, 0},
+                 Event{41.5, EventKind::kZoneForce, 1.4, zones[0].name, 0},
+                 Event{41.6, EventKind::kForceClamped, 3.6, "", -1},
+                 Event{41.8, EventKind::kForceClamped, 4.9, "", -1},
+                 Event{41.9, EventKind::kOverloadWarning, 0.05, "", -1}};
+  HapticLoopStats loop;
+  loop.rate_hz = 370;
+  loop.target_rate_hz = 1000;
+  loop.ticks = 20000;
+  HudModel hud = make_hud_model(*loaded.model, world.summary(), view, loop, "mouse and keyboard");
+  hud.mouse_mode = true;
+  for (const HudAlert& a : hud.alerts) EXPECT_EQ(a.text.find('_'), std::string::npos) << a.text;
+
+  const int w = 1280, h = 800;
+  const RenderScene scene = snapshot_state(world, view.state, float(w) / h);
+  std::string error;
+  auto ui = ImGuiOffscreen::create(w, h, &error);
+  ASSERT_TRUE(ui) << error;
+  Image im{w, h, {}};
+  std::vector<std::string> overflows;
+  std::vector<ImRect> windows;
+  ASSERT_TRUE(ui->render(
+      &scene,
+      [&] {
+        draw_trainee_hud(hud, ImVec2(w, h), nullptr);
+        overflows = test::text_overflows(ImVec2(w, h));
+        windows.clear();
+        for (const char* name : {"Module", "Alerts", "Status", "Controls"})
+          if (ImGuiWindow* win = ImGui::FindWindowByName(name)) windows.push_back(win->Rect());
+      },
+      &im.rgb, &error))
+      << error;
+  for (const std::string& o : overflows) ADD_FAILURE() << o;
+  ASSERT_EQ(windows.size(), 4u);
+  for (std::size_t a = 0; a < windows.size(); ++a)  // no HUD window covers another
+    for (std::size_t b = a + 1; b < windows.size(); ++b)
+      EXPECT_FALSE(windows[a].Overlaps(windows[b])) << "windows " << a << " and " << b;
+  EXPECT_TRUE(write_png_rgb("trainee_hud_1280x800.png", w, h, im.rgb, &error)) << error;
 }
 
 }  // namespace
