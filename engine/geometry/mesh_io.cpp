@@ -109,9 +109,18 @@ bool check_obj_statements(std::string_view text, const std::string& name, std::s
         return false;
       }
       for (std::size_t k = 1; k < 4; ++k) {
-        if (!number_of(t[k])) {
+        const auto x = number_of(t[k]);
+        if (!x) {
           message = where + "vertex coordinate " + std::to_string(k) + " is not a finite number (got " +
                     quoted(t[k]) + ")";
+          return false;
+        }
+        // tinyobjloader holds coordinates as 32-bit floats: beyond their range one would be
+        // infinite.
+        if (!std::isfinite(static_cast<float>(*x))) {
+          message = where + "vertex coordinate " + std::to_string(k) +
+                    " is outside the range of a 32-bit float (got " + quoted(t[k]) +
+                    ", expected at most 3.4e38 in magnitude)";
           return false;
         }
       }
@@ -251,7 +260,14 @@ std::optional<TriangleMesh> read_ascii_stl(std::string_view text, const std::str
                       " is not a finite number (got " + quoted(t[k + 1]) + ")";
             return false;
           }
-          // Held in single precision like binary STL, so both spellings load alike.
+          // Held in single precision like binary STL, so both spellings load alike; a number
+          // beyond a float's range (e.g. 1e39) is refused, as it would become infinite.
+          if (!std::isfinite(static_cast<float>(*x))) {
+            message = where + "vertex coordinate " + std::to_string(k + 1) +
+                      " is outside the range of a 32-bit float (got " + quoted(t[k + 1]) +
+                      ", expected at most 3.4e38 in magnitude)";
+            return false;
+          }
           v[k] = to_metres(static_cast<float>(*x), scale);
         }
         mesh.vertices.push_back(v);

@@ -48,8 +48,8 @@ endfunction()
 set(seeds ${ACDR_SOURCE_DIR})
 acdr_fuzz_test(scenario_loader_fuzz 4000 10 16384 '${seeds}/scenarios/modules' '${seeds}/tests/scenarios/data')
 acdr_fuzz_test(trajectory_fuzz 20000 8 4096 '${seeds}/content/demonstrations')
-acdr_fuzz_test(mesh_obj_fuzz 20000 8 8192 '${seeds}/tests/scenarios/data')
-acdr_fuzz_test(mesh_stl_fuzz 20000 8 8192 '${seeds}/tests/scenarios/data')
+acdr_fuzz_test(mesh_obj_fuzz 20000 8 8192 '${seeds}/tests/scenarios/data' '${seeds}/tests/fuzz/regressions')
+acdr_fuzz_test(mesh_stl_fuzz 20000 8 8192 '${seeds}/tests/scenarios/data' '${seeds}/tests/fuzz/regressions')
 # The decoder's seeds are written by a small program of the fuzz build.
 set(udp_seeds ${ACDR_FUZZ_BUILD}/seeds/udp_bridge)
 add_test(NAME fuzz.udp_bridge_seeds

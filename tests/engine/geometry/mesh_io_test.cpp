@@ -85,6 +85,8 @@ TEST(MeshIo, BrokenObjNamesTheLine) {
   const BrokenObj cases[] = {
       {"v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n", "t.obj:3: vertex has 2 coordinates"},
       {"v 0 0 0\nv 1 x 0\nv 0 1 0\nf 1 2 3\n", "t.obj:2: vertex coordinate 2 is not a finite number (got 'x')"},
+      {"v 0 0 0\nv 1 1e39 0\nv 0 1 0\nf 1 2 3\n",
+       "t.obj:2: vertex coordinate 2 is outside the range of a 32-bit float (got '1e39'"},
       {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "t.obj:4: face refers to vertex 4, but the file has 3 vertices"},
       {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "t.obj:4: face has 2 vertices"},
       {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 a\n", "t.obj:4: face vertex 'a' is not an index"},
@@ -121,6 +123,13 @@ TEST(MeshIo, BrokenStlNamesTheLineOrByte) {
   EXPECT_FALSE(read_stl(bad_number, "a.stl", LengthUnit::kMillimetre, &error));
   EXPECT_NE(error.find("a.stl:4: vertex coordinate 1 is not a finite number"), std::string::npos)
       << error;
+
+  // A finite double beyond a float's range would be an infinite vertex (a fuzzing finding).
+  std::string huge = "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e39 0 0\n"
+                     "vertex 1 1 0\nendloop\nendfacet\nendsolid\n";
+  EXPECT_FALSE(read_stl(huge, "a.stl", LengthUnit::kMillimetre, &error));
+  EXPECT_NE(error.find("a.stl:5: vertex coordinate 1 is outside the range of a 32-bit float"),
+            std::string::npos) << error;
 
   const std::string cut = ascii.substr(0, ascii.size() / 2);
   EXPECT_FALSE(read_stl(cut, "a.stl", LengthUnit::kMillimetre, &error));
