@@ -377,10 +377,12 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
   ImGui::Begin("Score", nullptr,
                ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
                    ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings);
+  // Every line wraps inside the window (window-local x), the long end reason and status too.
+  ImGui::PushTextWrapPos(ImGui::GetContentRegionMax().x);  // inside a scrollbar too
   ImGui::TextColored(ui_colors::kInfo, "%s", s.title.c_str());
   ImGui::Text("Ended: %s after %.1f s", s.end_reason.c_str(), s.duration_s);
   if (is_slow_motion(s.realtime_factor)) {
-    ImGui::PushTextWrapPos(width - ImGui::GetStyle().WindowPadding.x);
+    ImGui::PushTextWrapPos(ImGui::GetContentRegionMax().x);  // inside a scrollbar too
     ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kWarning);
     ImGui::TextWrapped("The simulation ran at %s", realtime_text(s.realtime_factor).c_str());
     ImGui::PopStyleColor();
@@ -398,7 +400,7 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
   ImGui::Spacing();
   draw_score_table("metrics", s.rows);
   // Long lines wrap inside the window (window-local x).
-  ImGui::PushTextWrapPos(width - ImGui::GetStyle().WindowPadding.x);
+  ImGui::PushTextWrapPos(ImGui::GetContentRegionMax().x);  // inside a scrollbar too
   auto bullet = [](const std::string& line) {
     ImGui::Bullet();
     ImGui::TextUnformatted(line.c_str());
@@ -421,6 +423,7 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
   }
   ImGui::Spacing();
   const bool close = ImGui::Button("Close (Enter)");
+  ImGui::PopTextWrapPos();
   ImGui::End();
   return close;
 }
