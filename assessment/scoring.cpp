@@ -116,9 +116,9 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
       double z = (ts.value - term.expert_mean) / sd;
       if (!term.higher_is_better) z = -z;
       if (z <= -2.0) {
-        char part[160];
-        std::snprintf(part, sizeof part, "%s = %.3g against the experts' %.3g +- %.2g (%.1f SD %s)",
-                      term.metric.c_str(), ts.value, term.expert_mean, sd, -z,
+        char part[240];
+        std::snprintf(part, sizeof part, "%s %.3g against the experts' %.3g ± %.2g (%.1f SD %s)",
+                      metric_label(term.metric).c_str(), ts.value, term.expert_mean, sd, -z,
                       term.higher_is_better ? "below" : "above");
         weak.emplace_back(z, part);
       }

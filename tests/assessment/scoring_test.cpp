@@ -83,8 +83,8 @@ TEST(Scoring, ABelowPassReasonNamesTheTermsFarFromTheExperts) {
   ASSERT_EQ(s.reasons.size(), 1u);
   const std::string& why = s.reasons[0];
   EXPECT_EQ(why.find("composite score"), 0u) << why;
-  const auto duration = why.find("duration_s = 100 against the experts' 80 +- 4 (5.0 SD above)");
-  const auto force = why.find("force = 2.5 against the experts' 1 +- 0.5 (3.0 SD above)");
+  const auto duration = why.find("Duration (s) 100 against the experts' 80 ± 4 (5.0 SD above)");
+  const auto force = why.find("Force 2.5 against the experts' 1 ± 0.5 (3.0 SD above)");
   EXPECT_NE(duration, std::string::npos) << why;
   EXPECT_NE(force, std::string::npos) << why;
   EXPECT_LT(duration, force) << why;
