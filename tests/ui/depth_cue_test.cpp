@@ -47,9 +47,10 @@ TEST(DepthCue, TheC4C5ModuleMeasuresFromTheDiscsFrontToTheBodiesBackWall) {
   const DepthReference r = depth_reference(world, state);
   ASSERT_TRUE(r.valid);
   // The disc's material starts where the trainee meets it through the window cut in the
-  // annulus's front: the nucleus's top layer (2.5 mm); the back is the vertebral bodies' back
-  // wall, behind the nucleus (z >= -3.5 mm).
-  EXPECT_NEAR(r.surface_z_m, 2.5e-3, 0.5e-3);
+  // annulus's front: the nucleus's front (its centre at z = -0.25 mm plus its 4.68 mm semi-axis:
+  // 4.43 mm), to within the 1 mm lattice; the back is the vertebral bodies' back wall, behind
+  // the nucleus (z >= -3.5 mm).
+  EXPECT_NEAR(r.surface_z_m, 4.43e-3, 1.0e-3);
   EXPECT_LT(r.floor_z_m, -3.5e-3);
   EXPECT_EQ(r.floor_name, "back of the disc (PLL, spinal cord)");
 }
