@@ -4,7 +4,6 @@
 #include "cli/dashboard_command.hpp"
 
 #include <gtest/gtest.h>
-#include <stb_image.h>
 
 #include <filesystem>
 #include <fstream>
@@ -12,22 +11,11 @@
 
 #include "tests/db/db_test_support.hpp"
 #include "tests/ui/image_probe.hpp"
+#include "tests/ui/png_image.hpp"
 #include "tests/ui/test_record.hpp"
 
 namespace acdr {
 namespace {
-
-test::Image load_png(const std::string& path) {
-  int w = 0, h = 0, channels = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 3);
-  test::Image image;
-  if (!data) return image;
-  image.width = w;
-  image.height = h;
-  image.rgb.assign(data, data + static_cast<std::size_t>(w) * h * 3);
-  stbi_image_free(data);
-  return image;
-}
 
 // Fraction of bright, near-grey pixels (ImGui text) in a rectangle.
 double text_fraction(const test::Image& im, int x0, int y0, int x1, int y1) {
@@ -63,7 +51,7 @@ TEST_F(DashboardCommandTest, ScreenshotShowsTheDashboardLegibly) {
   o.height = 1200;
   std::ostringstream out, err;
   ASSERT_EQ(run_dashboard(o, out, err), 0) << err.str();
-  const test::Image im = load_png(o.screenshot);
+  const test::Image im = test::load_png(o.screenshot);
   ASSERT_EQ(im.width, 1600);
   ASSERT_EQ(im.height, 1200);
   // Not blank: many distinct shades.

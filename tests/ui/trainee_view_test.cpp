@@ -4,7 +4,6 @@
 #include "ui/trainee_view.hpp"
 
 #include <gtest/gtest.h>
-#include <stb_image.h>
 
 #include "app/live_attempt.hpp"
 #include "engine/devices/trajectory.hpp"
@@ -12,22 +11,11 @@
 #include "tests/app/test_scenes.hpp"
 #include "tests/db/db_test_support.hpp"
 #include "tests/ui/image_probe.hpp"
+#include "tests/ui/png_image.hpp"
 #include "ui/display.hpp"
 
 namespace acdr {
 namespace {
-
-test::Image load_png(const std::string& path) {
-  int w = 0, h = 0, n = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &n, 3);
-  test::Image im;
-  if (!data) return im;
-  im.width = w;
-  im.height = h;
-  im.rgb.assign(data, data + static_cast<std::size_t>(w) * h * 3);
-  stbi_image_free(data);
-  return im;
-}
 
 TEST(TraineeView, WindowRunsTheAttemptAndShowsSceneHudAndScore) {
   if (!display_available()) GTEST_SKIP() << "no DISPLAY (run under xvfb-run to test windows)";
@@ -68,7 +56,7 @@ TEST(TraineeView, WindowRunsTheAttemptAndShowsSceneHudAndScore) {
   view.show_score(run, "Stored as attempt 1 (completed)");
   EXPECT_EQ(view.picture_error(), "");
 
-  const test::Image live = load_png(options.screenshot);
+  const test::Image live = test::load_png(options.screenshot);
   ASSERT_GT(live.width, 0) << "no live screenshot";
   EXPECT_GT(live.fraction(test::is_steel), 0.003);      // the instrument
   EXPECT_GT(live.fraction(test::is_wall_blue), 0.01);   // the box walls
@@ -79,7 +67,7 @@ TEST(TraineeView, WindowRunsTheAttemptAndShowsSceneHudAndScore) {
       text += c.r > 170 && c.g > 170 && c.b > 170;
     }
   EXPECT_GT(text, 200);
-  const test::Image score = load_png(options.score_screenshot);
+  const test::Image score = test::load_png(options.score_screenshot);
   ASSERT_GT(score.width, 0) << "no score screenshot";
   EXPECT_GT(score.fraction([](const test::Rgb& c) { return c.g > 150 && c.g > c.r + 40; }),
             0.0003);  // PASSED / held in green
