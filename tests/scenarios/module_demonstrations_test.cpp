@@ -163,7 +163,7 @@ TEST_P(ModuleDemonstrations, EachNoviceFailsForItsOwnError) {
       {"novice_plunge", {"spinal_cord_pll"}},
       {"novice_lever", {"overload"}},
       {"novice_scrape", {"zone"}},
-      {"novice_slow", {"duration_s"}},
+      {"novice_slow", {"Duration (s)"}},
       {"novice_corner", {"zone"}},
   };
   std::size_t kinds = 0;
