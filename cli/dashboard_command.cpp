@@ -75,7 +75,7 @@ int run_dashboard(const DashboardOptions& options, std::ostream& out, std::ostre
       err << error << "\n";
       return 2;
     }
-    sel.replay_t_s = options.replay_t_s >= 0 ? options.replay_t_s : 0.6 * attempt->duration_s;
+    sel.replay_t_s = options.replay_t_s >= 0 ? options.replay_t_s : attempt->opening_t_s();
   }
 
   if (!options.export_csv.empty()) {

@@ -68,6 +68,11 @@ std::size_t AttemptDrillDown::frame_at(double t) const {
   return it == t_s.begin() ? 0 : static_cast<std::size_t>(it - t_s.begin()) - 1;
 }
 
+double AttemptDrillDown::opening_t_s() const {
+  if (bone_stress && bone_stress->peak_load_N() > 0.0) return bone_stress->peak_load_t_s();
+  return 0.6 * duration_s;
+}
+
 void ReplayGeometry::instrument_at(const Pose& grip, std::vector<Collider>& out) const {
   out.resize(instrument.size());
   for (std::size_t i = 0; i < instrument.size(); ++i) {

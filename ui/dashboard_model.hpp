@@ -100,6 +100,9 @@ struct AttemptDrillDown {
 
   /// Index of the last frame at or before time t (0 when none).
   std::size_t frame_at(double t_s) const;
+  /// Where the replay cursor opens: the moment of peak bone load when the bone was modelled
+  /// (so the stress pane shows the worst of the attempt), else 0.6 of the way through.
+  double opening_t_s() const;
 };
 
 /// Loads attempt `id` with events and recording, and its module's scenario file for the

@@ -93,6 +93,7 @@ bool run_dashboard_window(const DashboardWindowOptions& options, Database& db,
       if (sel.attempt_id > 0) {
         attempt = load_drill_down(db, sel.attempt_id, &why);
         if (!attempt) status = why;
+        if (attempt && actions.attempt_changed) sel.replay_t_s = attempt->opening_t_s();
       }
     }
     if (actions.export_csv) {

@@ -53,12 +53,11 @@ void LiveBoneStress::apply(RenderScene& scene, std::span<const std::uint64_t> bo
   scene.meshes.insert(scene.meshes.end(), meshes_.begin(), meshes_.end());
 }
 
-void LiveBoneStress::draw_legend(const ImVec2& display) const {
+void LiveBoneStress::draw_legend(const ImVec2& display, float top) const {
   const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoSavedSettings |
                                  ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing;
-  ImGui::SetNextWindowPos(ImVec2(display.x - 12.0f, display.y * 0.5f), ImGuiCond_Always,
-                          ImVec2(1.0f, 0.5f));
+  ImGui::SetNextWindowPos(ImVec2(display.x - 12.0f, top + 12.0f), ImGuiCond_Always, ImVec2(1.0f, 0.0f));
   ImGui::SetNextWindowBgAlpha(0.85f);
   ImGui::Begin("Bone stress legend", nullptr, fixed);
   ImGui::TextUnformatted("Bone stress (B)");
@@ -68,7 +67,7 @@ void LiveBoneStress::draw_legend(const ImVec2& display) const {
     return;
   }
   ImGui::Text("von Mises, MPa");
-  const float bar_h = 180.0f, bar_w = 18.0f;
+  const float bar_h = 120.0f, bar_w = 18.0f;  // short enough to sit between the status window and the depth gauge
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImDrawList* dl = ImGui::GetWindowDrawList();
   for (int b = 0; b < kBands; ++b) {

@@ -24,8 +24,9 @@ class LiveBoneStress {
   /// Replaces the scene's meshes whose geometry id is in `bone_ids` (the anatomy's vertebrae)
   /// by the coloured ones (the plain bone stays until a first field arrives).
   void apply(RenderScene& scene, std::span<const std::uint64_t> bone_ids) const;
-  /// The legend and the time of the field shown, top right under the HUD's own windows.
-  void draw_legend(const ImVec2& display) const;
+  /// The legend and the time of the field shown, at the right edge below `top` (the bottom of
+  /// the HUD's status window, so the two never overlap).
+  void draw_legend(const ImVec2& display, float top) const;
 
   static constexpr int kBands = 12;
 

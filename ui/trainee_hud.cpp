@@ -261,6 +261,7 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
     ImGui::TextColored(ui_colors::kMuted, "%s, haptic loop %.0f Hz",
                        realtime_text(hud.realtime_factor).c_str(), hud.haptic_rate_hz);
   }
+  if (actions) actions->status_bottom = ImGui::GetWindowPos().y + ImGui::GetWindowSize().y;
   ImGui::End();
 
   // Alerts: most severe first, in the column between the module and the status windows (they

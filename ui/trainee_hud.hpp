@@ -64,6 +64,7 @@ struct HudActions {
   bool finish = false;        ///< "Finish attempt" pressed: score what was done
   bool reset_camera = false;
   bool toggle_stress_view = false;  ///< "Bone stress" clicked
+  float status_bottom = 0.0f;       ///< where the status window ends (pixels from the top), for panes below it
 };
 
 /// "0.37x real time: slow motion. Use a coarser lattice or a faster machine." below 0.95;

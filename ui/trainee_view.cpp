@@ -308,7 +308,7 @@ void TraineeView::watch(LiveAttempt& live) {
     if (bone && w.stress_view) {
       w.stress.update(*bone);
       w.stress.apply(w.scene, w.bone_ids);
-      w.stress.draw_legend(ImGui::GetIO().DisplaySize);
+      w.stress.draw_legend(ImGui::GetIO().DisplaySize, actions.status_bottom);
     }
     w.draw_depth_cue();
     if (actions.reset_camera) w.reset_camera();
