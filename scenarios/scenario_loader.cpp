@@ -177,40 +177,38 @@ void read_block_shape(ObjectReader& br, ParticleBlockConfig& b) {
 // anatomy: vertebrae, bone distance grid, danger zones
 
 void read_vertebra(ObjectReader& r, VertebraParams& v) {
-  const Range len = Range::closed(0.1 * kMm, 50 * kMm);
-  auto set = [&](const char* base, double& field) {
-    if (auto x = r.quantity(length(base), Need::kOptional, len)) field = *x;
+  // Each size in the range the generator builds (engine/anatomy/vertebra_generator.cpp,
+  // validate_segment_params); how the sizes must relate to each other is checked there.
+  auto set = [&](const char* base, double& field, double min_mm, double max_mm) {
+    if (auto x = r.quantity(length(base), Need::kOptional, Range::closed(min_mm * kMm, max_mm * kMm))) field = *x;
   };
-  set("endplate_width", v.endplate_width_m);
-  set("body_depth", v.body_depth_m);
-  set("body_height", v.body_height_m);
-  set("uncinate_height", v.uncinate_height_m);
-  set("uncinate_thickness", v.uncinate_thickness_m);
+  set("endplate_width", v.endplate_width_m, 5, 40);
+  set("body_depth", v.body_depth_m, 5, 40);
+  set("body_height", v.body_height_m, 5, 30);
+  set("uncinate_height", v.uncinate_height_m, 0.1, 30);
+  set("uncinate_thickness", v.uncinate_thickness_m, 0.5, 10);
   if (auto x = r.number("uncinate_depth_fraction", Need::kOptional, Range::closed(0.1, 1.0))) {
     v.uncinate_depth_fraction = *x;
   }
-  set("pedicle_width", v.pedicle_width_m);
-  set("pedicle_height", v.pedicle_height_m);
-  set("canal_sagittal", v.canal_sagittal_m);
-  set("canal_transverse", v.canal_transverse_m);
-  set("foramen_transversarium_diameter", v.foramen_transversarium_diameter_m);
-  set("uncinate_to_foramen", v.uncinate_to_foramen_m);
-  set("foramen_anterior_offset", v.foramen_anterior_offset_m);
-  set("transverse_process_reach", v.transverse_process_reach_m);
-  set("lamina_thickness", v.lamina_thickness_m);
-  set("spinous_process_length", v.spinous_process_length_m);
-  auto set_from_zero = [&](const char* base, double& field, double max_mm) {
-    if (auto x = r.quantity(length(base), Need::kOptional, Range::closed(0.0, max_mm * kMm))) field = *x;
-  };
-  set_from_zero("superior_concavity", v.superior_concavity_m, 5.0);
-  set_from_zero("anterior_lip", v.anterior_lip_m, 5.0);
-  set_from_zero("lip_resection_width", v.lip_resection_width_m, 40.0);
+  set("pedicle_width", v.pedicle_width_m, 1, 15);
+  set("pedicle_height", v.pedicle_height_m, 1, 30);
+  set("canal_sagittal", v.canal_sagittal_m, 5, 30);
+  set("canal_transverse", v.canal_transverse_m, 10, 40);
+  set("foramen_transversarium_diameter", v.foramen_transversarium_diameter_m, 1, 12);
+  set("uncinate_to_foramen", v.uncinate_to_foramen_m, 1, 20);
+  set("foramen_anterior_offset", v.foramen_anterior_offset_m, 0, 40);
+  set("transverse_process_reach", v.transverse_process_reach_m, 1, 20);
+  set("lamina_thickness", v.lamina_thickness_m, 1, 8);
+  set("spinous_process_length", v.spinous_process_length_m, 2, 40);
+  set("superior_concavity", v.superior_concavity_m, 0, 5);
+  set("anterior_lip", v.anterior_lip_m, 0, 5);
+  set("lip_resection_width", v.lip_resection_width_m, 0, 40);
   r.finish();
 }
 
 void read_morphometry(ObjectReader& r, SegmentParams& p) {
-  if (auto x = r.quantity(length("disc_height"), Need::kOptional, Range::closed(0.5 * kMm, 20 * kMm))) p.disc_height_m = *x;
-  if (auto x = r.quantity(length("facet_gap"), Need::kOptional, Range::closed(0.01 * kMm, 5 * kMm))) p.facet_gap_m = *x;
+  if (auto x = r.quantity(length("disc_height"), Need::kOptional, Range::closed(2 * kMm, 15 * kMm))) p.disc_height_m = *x;
+  if (auto x = r.quantity(length("facet_gap"), Need::kOptional, Range::closed(0.2 * kMm, 5 * kMm))) p.facet_gap_m = *x;
   if (auto x = r.quantity(length("mesh_spacing"), Need::kOptional, Range::closed(0.1 * kMm, 2 * kMm))) {
     p.mesh_spacing_m = *x;
   }

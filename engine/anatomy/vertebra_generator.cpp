@@ -404,7 +404,7 @@ std::string validate_segment_params(const SegmentParams& p) {
     check(v.body_height_m >= 5e-3 && v.body_height_m <= 30e-3, n + "body_height", v.body_height_m, "5 to 30 mm");
     check(v.uncinate_height_m > 0 && v.uncinate_height_m <= v.body_height_m, n + "uncinate_height", v.uncinate_height_m, "> 0 and at most the body height");
     check(v.uncinate_thickness_m >= 0.5e-3 && v.uncinate_thickness_m <= 0.25 * v.endplate_width_m, n + "uncinate_thickness", v.uncinate_thickness_m, "0.5 mm to a quarter of the endplate width");
-    if (!(v.uncinate_depth_fraction > 0.1 && v.uncinate_depth_fraction <= 1.0)) {
+    if (!(v.uncinate_depth_fraction >= 0.1 && v.uncinate_depth_fraction <= 1.0)) {
       out << n << "uncinate_depth_fraction: got " << v.uncinate_depth_fraction << ", expected 0.1 to 1\n";
     }
     check(v.pedicle_width_m >= 1e-3 && v.pedicle_width_m <= 15e-3, n + "pedicle_width", v.pedicle_width_m, "1 to 15 mm");
