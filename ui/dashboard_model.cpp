@@ -8,6 +8,7 @@
 #include "assessment/zone_findings.hpp"
 #include "db/attempt_store.hpp"
 #include "db/catalog.hpp"
+#include "engine/anatomy/anatomy.hpp"
 #include "engine/rigid/instrument.hpp"
 #include "engine/rigid/static_scene.hpp"
 #include "scenarios/scenario_loader.hpp"
@@ -117,6 +118,19 @@ std::shared_ptr<const ScenarioModel> load_scenario_parts(Database& db, AttemptDr
   }
   if (world.instrument.enabled)
     d.replay.instrument = InstrumentGeometry(world.instrument).local_colliders();
+  if (world.anatomy.enabled) {
+    // The vertebrae as the attempt had them (from the mesh cache, or the files); a replay
+    // without them still shows the instrument and its path.
+    try {
+      const std::array<TriangleMesh, 2> bone = load_vertebra_meshes(world.anatomy);
+      const std::vector<const TriangleMesh*> both = {&bone[0], &bone[1]};
+      constexpr double kCell = 0.4e-3;
+      d.replay.bone_top = project_silhouette(both, 0, 1, kCell);
+      d.replay.bone_side = project_silhouette(both, 0, 2, kCell);
+    } catch (const std::exception& e) {
+      d.scenario_error = std::string("vertebrae not shown: ") + e.what();
+    }
+  }
   return loaded.model;
 }
 

@@ -20,6 +20,7 @@
 #include "db/records.hpp"
 #include "engine/core/types.hpp"
 #include "engine/geometry/collider.hpp"
+#include "ui/mesh_silhouette.hpp"
 
 namespace acdr {
 
@@ -56,6 +57,9 @@ struct TimeBand {
 struct ReplayGeometry {
   std::vector<Collider> walls;       ///< the box's walls, world frame
   std::vector<Collider> instrument;  ///< the instrument's colliders in its grip frame; empty: none
+  /// The vertebrae's outlines in the two replay views (x-y from above, x-z along the spine);
+  /// empty in scenes without anatomy.
+  MeshSilhouette bone_top, bone_side;
   Eigen::AlignedBox3d bounds;        ///< the walls and every recorded tip position (m)
 
   /// The instrument's colliders with its grip at `grip` (world frame), into `out`.

@@ -412,7 +412,12 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
     if (view == 1) ImGui::SameLine(0, 10);
     const int ax = 0, ay = view == 0 ? 1 : 2;  // top: x-y, side: x-z
     ImGui::BeginGroup();
-    ImGui::TextColored(ui_colors::kMuted, view == 0 ? "Top (x-y)" : "Side (x-z)");
+    const MeshSilhouette& bone = view == 0 ? d.replay.bone_top : d.replay.bone_side;
+    // With vertebrae, name the views as a surgeon would: from above is the anterior view.
+    const char* title = bone.empty() ? (view == 0 ? "Top (x-y)" : "Side (x-z)")
+                                     : (view == 0 ? "Front, the surgeon's view (x-y)"
+                                                  : "Along the spine (x-z)");
+    ImGui::TextColored(ui_colors::kMuted, "%s", title);
     const ImVec2 a = ImGui::GetCursorScreenPos();
     const ImVec2 b(a.x + panel_w, a.y + panel_h);
     ImGui::Dummy(ImVec2(panel_w, panel_h));
@@ -438,6 +443,17 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
         for (int bit : {1, 2, 4})
           if (!(k & bit)) dl->AddLine(q[k], q[k | bit], color, 1.2f);
     };
+    // The vertebrae's outline, then the walls (the tray for removed material).
+    for (const MeshSilhouette::Run& run : bone.runs) {
+      Vec3 p0 = Vec3::Zero(), p1 = Vec3::Zero();
+      p0[ax] = bone.origin_a + run.first * bone.cell_m;
+      p1[ax] = bone.origin_a + (run.last + 1) * bone.cell_m;
+      p0[ay] = bone.origin_b + run.row * bone.cell_m;
+      p1[ay] = bone.origin_b + (run.row + 1) * bone.cell_m;
+      const ImVec2 q0 = project(p0), q1 = project(p1);
+      dl->AddRectFilled(ImVec2(std::min(q0.x, q1.x), std::min(q0.y, q1.y)),
+                        ImVec2(std::max(q0.x, q1.x), std::max(q0.y, q1.y)), IM_COL32(214, 204, 176, 90));
+    }
     for (const Collider& c : statics) draw_box(c, IM_COL32(120, 150, 200, 150));
     // Tip path up to now, coloured green -> amber -> red with the force on the hand.
     const std::size_t stride = std::max<std::size_t>(1, (i + 1) / 1500);

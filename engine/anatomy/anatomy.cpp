@@ -42,15 +42,11 @@ std::string check_anatomy_files(const AnatomyConfig& config) {
   return out;
 }
 
-Anatomy::Anatomy(const AnatomyConfig& config) : config_(config) {
-  landmarks_ = segment_landmarks(config.segment);
-
-  // Vertebrae: loaded from files, or generated (cached by their parameters).
-  auto t0 = std::chrono::steady_clock::now();
+std::array<TriangleMesh, 2> load_vertebra_meshes(const AnatomyConfig& config, bool* from_cache) {
+  std::array<TriangleMesh, 2> meshes;
   const bool files = !config.c4_mesh_path.empty() && !config.c5_mesh_path.empty();
-  report_.meshes_from_files = files;
-  report_.meshes_from_cache = !files;
   const std::string mesh_cache = anatomy_cache_dir(config, "mesh");
+  bool all_cached = true;
   for (int i = 0; i < 2; ++i) {
     const VertebraLevel level = i == 0 ? VertebraLevel::kC4 : VertebraLevel::kC5;
     if (files) {
@@ -58,14 +54,28 @@ Anatomy::Anatomy(const AnatomyConfig& config) : config_(config) {
       const std::string& path = i == 0 ? config.c4_mesh_path : config.c5_mesh_path;
       auto mesh = load_closed_mesh_file(path, unit_of(config.mesh_unit_m), &error);
       if (!mesh) throw std::runtime_error(error);
-      meshes_[i] = std::move(*mesh);
+      meshes[i] = std::move(*mesh);
     } else {
       bool cached = false;
-      meshes_[i] = load_or_generate_vertebra(config.segment, level, mesh_cache, nullptr, &cached);
-      report_.meshes_from_cache = report_.meshes_from_cache && cached;
+      meshes[i] = load_or_generate_vertebra(config.segment, level, mesh_cache, nullptr, &cached);
+      all_cached = all_cached && cached;
     }
-    report_.triangles += meshes_[i].triangle_count();
   }
+  if (from_cache) *from_cache = !files && all_cached;
+  return meshes;
+}
+
+Anatomy::Anatomy(const AnatomyConfig& config) : config_(config) {
+  landmarks_ = segment_landmarks(config.segment);
+
+  // Vertebrae: loaded from files, or generated (cached by their parameters).
+  auto t0 = std::chrono::steady_clock::now();
+  const bool files = !config.c4_mesh_path.empty() && !config.c5_mesh_path.empty();
+  report_.meshes_from_files = files;
+  bool cached = false;
+  meshes_ = load_vertebra_meshes(config, &cached);
+  report_.meshes_from_cache = !files && cached;
+  report_.triangles = meshes_[0].triangle_count() + meshes_[1].triangle_count();
   report_.mesh_seconds = seconds_since(t0);
 
   // Grids: both vertebrae for the particles; each alone, coarser, for the endplate zones.

@@ -74,6 +74,11 @@ void default_sdf_region(const SegmentParams& params, Vec3* min_m, Vec3* max_m);
 /// files are named), else "path: what is wrong" (one line per file).
 std::string check_anatomy_files(const AnatomyConfig& config);
 
+/// C4 and C5 as the scene uses them: loaded from the files `config` names, or generated from its
+/// morphometry through the mesh cache (`from_cache`: both came from it). Throws
+/// std::runtime_error when a file cannot be used.
+std::array<TriangleMesh, 2> load_vertebra_meshes(const AnatomyConfig& config, bool* from_cache = nullptr);
+
 /// The cache directory `config.cache_dir` means ("" when caching is off).
 std::string anatomy_cache_dir(const AnatomyConfig& config, const std::string& sub);
 
