@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <mutex>
+#include <new>
 
 namespace acdr {
 
@@ -47,6 +48,15 @@ long milliseconds(double seconds) {
 }
 
 }  // namespace
+
+std::string url_escape(const std::string& text) {
+  init_curl_once();
+  char* escaped = curl_easy_escape(nullptr, text.data(), static_cast<int>(text.size()));
+  if (escaped == nullptr) throw std::bad_alloc();
+  std::string out(escaped);
+  curl_free(escaped);
+  return out;
+}
 
 std::string HttpResponse::header(const std::string& lower_name) const {
   for (const auto& [name, value] : headers) {

@@ -35,6 +35,10 @@ struct HttpResponse {
   std::string header(const std::string& lower_name) const;
 };
 
+/// `text` percent-encoded for a URL's query or path (RFC 3986: letters, digits and "-._~" pass,
+/// every other byte is %XX), by libcurl.
+std::string url_escape(const std::string& text);
+
 class HttpClient {
  public:
   HttpClient();

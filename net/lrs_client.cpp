@@ -11,21 +11,6 @@ namespace {
 
 constexpr std::size_t kMaxMessage = 600;
 
-std::string percent_encode(const std::string& text) {
-  static const char* kHex = "0123456789ABCDEF";
-  std::string out;
-  for (unsigned char c : text) {
-    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') {
-      out.push_back(static_cast<char>(c));
-    } else {
-      out.push_back('%');
-      out.push_back(kHex[c >> 4]);
-      out.push_back(kHex[c & 0xF]);
-    }
-  }
-  return out;
-}
-
 // The store's own words, on one line: a JSON body's "message" (and its warnings, as Learning
 // Locker sends them), else the body's text, shortened.
 std::string store_words(const std::string& body) {
@@ -118,7 +103,7 @@ LrsReply LrsClient::put_statement(const std::string& statement_id,
                                   const std::string& statement_json) {
   HttpRequest request;
   request.method = "PUT";
-  request.url = statements_url() + "?statementId=" + percent_encode(statement_id);
+  request.url = statements_url() + "?statementId=" + url_escape(statement_id);
   request.headers = {{"Content-Type", "application/json"}, {"X-Experience-API-Version", "1.0.3"}};
   request.body = statement_json;
   request.user = config_.key;

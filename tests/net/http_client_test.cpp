@@ -71,5 +71,12 @@ TEST(HttpClient, RoundTripWithBasicAuthentication) {
   std::filesystem::remove(store + ".stdout");
 }
 
+TEST(UrlEscape, LeavesUnreservedCharactersAndEncodesEveryOtherByte) {
+  EXPECT_EQ(url_escape("AZaz09-._~"), "AZaz09-._~");
+  EXPECT_EQ(url_escape("a b/c?d=e&f"), "a%20b%2Fc%3Fd%3De%26f");
+  EXPECT_EQ(url_escape("m\xC2\xB3"), "m%C2%B3");  // UTF-8 bytes one by one
+  EXPECT_EQ(url_escape(""), "");
+}
+
 }  // namespace
 }  // namespace acdr
