@@ -124,6 +124,12 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
   if (auto v = r.quantity(modulus("bulk_modulus"), Need::kOptional, Range::closed(1.0, 1e9))) {
     m.bulk_modulus_Pa = *v;
   }
+  if (auto v = r.quantity(duration("rebond_time"), Need::kOptional, Range::closed(0.0, 10.0))) {
+    m.rebond_time_s = *v;
+  }
+  if (auto v = r.quantity(speed("rebond_speed"), Need::kOptional, Range::closed(1e-6, 1.0))) {
+    m.rebond_speed_m_s = *v;
+  }
   if (auto v = r.boolean("counts_as_target", Need::kOptional)) m.counts_as_target = *v;
   r.finish();
 }

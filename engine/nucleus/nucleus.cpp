@@ -47,6 +47,8 @@
 // Bonds: springs k (|r| - L) along the bond; only their axial stiffness k n n^T enters K (the
 // transverse geometric term is indefinite under compression). A bond breaks when its force
 // k |stretch| exceeds k delta_max (seed Eq. 9-10).
+// A material may be cohesive: touching particles of it that rest relative to their neighbours
+// bond again, at their current distance (nucleus_cohesion.cpp).
 //
 // Contact: particles keep a distance h/2 from every collider. Inside the solve this is a
 // velocity constraint along the surface normal; afterwards every particle path is swept in the
@@ -102,6 +104,16 @@ std::span<const std::uint8_t> Nucleus::materials() const { return model_.materia
 double Nucleus::particle_volume_m3() const { return model_.volume; }
 std::size_t Nucleus::bond_count() const { return model_.bonds.size(); }
 std::size_t Nucleus::broken_bond_count() const { return state_.broken_bonds; }
+std::size_t Nucleus::reformed_bond_count() const { return state_.reformed.made; }
+std::span<const std::int32_t> Nucleus::reformed_bond_particles() const {
+  return state_.reformed.ij;
+}
+std::span<const std::uint8_t> Nucleus::reformed_bond_intact() const {
+  return state_.reformed.alive;
+}
+std::size_t Nucleus::intact_reformed_bond_count() const {
+  return state_.reformed.capacity() - state_.reformed.free_count;
+}
 std::size_t Nucleus::active_count() const { return state_.active_count; }
 const NucleusConfig& Nucleus::config() const { return model_.config; }
 std::span<const double> Nucleus::masses() const { return model_.mass; }
@@ -137,6 +149,15 @@ double Nucleus::mechanical_energy_J() const {
         min_image(model_, state_.x[bonds.ij[2 * b + 1]] - state_.x[bonds.ij[2 * b]]).norm() -
         bonds.rest[b];
     e += 0.5 * bonds.k[b] * stretch * stretch;
+  }
+  const ReformedBonds& reformed = state_.reformed;
+  for (std::size_t s = 0; s < reformed.capacity(); ++s) {
+    if (!reformed.alive[s]) continue;
+    const double stretch =
+        min_image(model_, state_.x[reformed.ij[2 * s + 1]] - state_.x[reformed.ij[2 * s]])
+            .norm() -
+        reformed.rest[s];
+    e += 0.5 * reformed.k[s] * stretch * stretch;
   }
   return e;
 }
@@ -211,6 +232,7 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
       report.ok = false;
     }
   nucleus::break_bonds(model_, state_, work_);
+  nucleus::reform_bonds(model_, state_, work_, dt);
 }
 
 namespace nucleus {

@@ -59,7 +59,14 @@ class Nucleus {
   std::span<const std::uint8_t> materials() const;  ///< N, index into config materials
   double particle_volume_m3() const;          ///< spacing^3
   std::size_t bond_count() const;             ///< bonds at build
-  std::size_t broken_bond_count() const;
+  std::size_t broken_bond_count() const;       ///< bonds broken so far (re-formed ones too)
+  /// Bonds re-formed so far between touching particles (MaterialConfig::rebond_time_s).
+  std::size_t reformed_bond_count() const;
+  std::size_t intact_reformed_bond_count() const;  ///< of those, the ones intact now
+  /// The re-formed bonds' slots: 2 particles per slot (i < j) and 1 while the slot holds an
+  /// intact bond (empty when no material re-bonds).
+  std::span<const std::int32_t> reformed_bond_particles() const;
+  std::span<const std::uint8_t> reformed_bond_intact() const;
   std::size_t active_count() const;           ///< particles integrated in the last step
   const NucleusConfig& config() const;
   /// FNV-1a over positions and velocities (bit patterns), for determinism tests.

@@ -149,8 +149,9 @@ void diagonal_from_mass_and_walls(const StepParticles& step, const StepWalls& wa
 // iterations stream it, so its size sets their speed; rounding perturbs the operator by
 // ~1e-7 relative (far below the solve tolerance) and symmetrically (both ends of a pair read
 // the same record), so it stays symmetric positive definite.
-void pair_terms(const NucleusModel& model, const StepParticles& step, PairList& pairs,
-                StepSystem& sys, PcgVectors& pcg, double dt) {
+void pair_terms(const NucleusModel& model, const ReformedBonds& reformed,
+                const StepParticles& step, PairList& pairs, StepSystem& sys, PcgVectors& pcg,
+                double dt) {
   const std::size_t cap = pairs.cap;
   // Per particle of the step: the pressure force factor dt kappa V max(C, 0) and half the
   // viscous coefficient times dt (zero beyond the halo).
@@ -173,8 +174,12 @@ void pair_terms(const NucleusModel& model, const StepParticles& step, PairList& 
   const double* pa = pairs.wv.data();
   const double* pg = pairs.g.data();
   const std::int32_t* pb = pairs.bond.data();
+  // Bond b's stiffness and rest length: built bonds [0, B), then the re-formed ones.
+  const std::int32_t nb = static_cast<std::int32_t>(model.bonds.size());
   const double* bk = model.bonds.k.data();
   const double* brest = model.bonds.rest.data();
+  const double* rk = reformed.k.data();
+  const double* rrest = reformed.rest.data();
   Vec3* rhs = sys.rhs.data();
   Vec3* qv = pcg.q.data();
   Sym3* diag = sys.diag_inv.data();
@@ -194,9 +199,9 @@ void pair_terms(const NucleusModel& model, const StepParticles& step, PairList& 
       double fs = (pf_i + pf[j]) * g;
       const std::int32_t b = pb[p];
       if (b >= 0) {
-        const double k = bk[b];
+        const double k = b < nb ? bk[b] : rk[b - nb];
         a += dt2 * k;
-        fs += dt * k * (pr[p] - brest[b]);
+        fs += dt * k * (pr[p] - (b < nb ? brest[b] : rrest[b - nb]));
       }
       const Vec3 f = fs * nn;
       rhs_i += f;
@@ -220,9 +225,9 @@ void pair_terms(const NucleusModel& model, const StepParticles& step, PairList& 
       double a = pa[p] * (hv_i + hv[j]);
       const std::int32_t b = pb[p];
       if (b >= 0) {
-        const double k = bk[b];
+        const double k = b < nb ? bk[b] : rk[b - nb];
         a += dt2 * k;
-        const Vec3 f = (dt * k * (pr[p] - brest[b])) * nn;
+        const Vec3 f = (dt * k * (pr[p] - (b < nb ? brest[b] : rrest[b - nb]))) * nn;
         rhs_i += f;
         rhs[j] -= f;
       }
@@ -292,7 +297,7 @@ void assemble(const NucleusModel& model, const NucleusState& state, NucleusWorks
   particle_coefficients(model, work.step, work.sys, dt);
   right_hand_side(model, state, work.step, work.walls, work.sys, dt);
   diagonal_from_mass_and_walls(work.step, work.walls, work.sys, work.pcg);
-  pair_terms(model, work.step, work.pairs, work.sys, work.pcg, dt);
+  pair_terms(model, state.reformed, work.step, work.pairs, work.sys, work.pcg, dt);
   kernels_of_idle_pairs(work.step, work.pairs);
   loose_bond_terms(model, state, work.step, work.loose, work.sys, dt);
   invert_diagonal(work.step, work.sys, work.pcg);

@@ -24,6 +24,14 @@ struct MaterialConfig {
   /// Not published for NP; 50 kPa is of the order of its measured moduli (5-60 kPa,
   /// docs/references.md) and keeps the buoyancy case within a few percent (docs/verification.md).
   double bulk_modulus_Pa = 5.0e4;
+  /// Cohesion: two particles of this material that touch (closer than the bond radius,
+  /// NucleusConfig::bond_radius_factor x spacing) without a bond, and have both been at rest
+  /// relative to their neighbours for this long, bond again, at their current distance (so
+  /// the new bond stores no energy) with this material's stiffness and break stretch: a torn
+  /// piece of gel re-adheres to the gel it rests against. 0: never (the seed's model).
+  double rebond_time_s = 0.0;
+  /// "At rest relative to the neighbours": no neighbour's distance changes faster than this.
+  double rebond_speed_m_s = 1.0e-3;
 };
 
 /// Shapes of particle regions other than a box, for the disc space.

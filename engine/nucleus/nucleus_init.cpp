@@ -301,6 +301,11 @@ void build_model(NucleusModel& model, std::span<const Collider> static_colliders
       model.options.periodic[0] || model.options.periodic[1] || model.options.periodic[2];
   model.cache_turn_cos =
       std::cos(0.5 * model.solver.wall_sum_cache_tolerance * model.h / model.radius);
+  model.bond_radius = model.config.bond_radius_factor * model.h;
+  model.rebonding = false;
+  if (model.options.bonds_enabled)
+    for (const MaterialConfig& m : model.config.materials)
+      model.rebonding = model.rebonding || m.rebond_time_s > 0.0;
   build_lattice_sites(model);
   build_wall_table(model);
   build_particle_constants(model, setup);
@@ -328,6 +333,25 @@ void init_state(const NucleusModel& model, const NucleusParticleSetup& setup,
   state.release.assign(n, 0);
   state.bond_alive.assign(model.bonds.size(), 1);
   state.broken_bonds = 0;
+  // The re-formed bonds' pool: room for every particle to hold its full share.
+  ReformedBonds& reformed = state.reformed;
+  reformed = ReformedBonds{};
+  if (model.rebonding) {
+    const std::size_t per = ReformedBonds::kPerParticle;
+    const std::size_t cap = per * n / 2;
+    reformed.ij.assign(2 * cap, 0);
+    reformed.rest.assign(cap, 0.0);
+    reformed.k.assign(cap, 0.0);
+    reformed.break_hi2.assign(cap, 0.0);
+    reformed.break_lo2.assign(cap, 0.0);
+    reformed.alive.assign(cap, 0);
+    reformed.free.resize(cap);
+    for (std::size_t s = 0; s < cap; ++s)  // slot 0 on top
+      reformed.free[s] = static_cast<std::int32_t>(cap - 1 - s);
+    reformed.free_count = cap;
+    reformed.of.assign(per * n, -1);
+    reformed.settled_s.assign(n, 0.0);
+  }
   state.pressure.assign(n, 0.0);
   state.body_force.assign(n, Vec3::Zero());
   state.static_force.assign(n, Vec3::Zero());
@@ -344,6 +368,7 @@ void reserve_workspace(const NucleusModel& model, NucleusWorkspace& work) {
   reserve_system(n, work.sys, work.pcg);
   reserve_walls(model, n, work);
   work.stamp.assign(n, 0);
+  work.separation_rate2.assign(model.rebonding ? n : 0, 0.0);
 }
 
 }  // namespace acdr::nucleus

@@ -93,6 +93,8 @@ struct NucleusModel {
   double s0 = 1.0;   // rest weighted second moment sum w r^2 of the full lattice, m^2
   double t0 = 1.0;   // rest weighted fourth moment sum w r_x^2 r_z^2 / r^2, m^2
   double cache_turn_cos = 1.0;   // cos of half the wall-sum cache's turn limit
+  double bond_radius = 1.5e-3;   // particles closer than this may bond (build; re-bonding), m
+  bool rebonding = false;        // some material re-bonds (MaterialConfig::rebond_time_s > 0)
 
   LatticeSites sites;
   WallTable wall_table;  // flat-face wall sums over d

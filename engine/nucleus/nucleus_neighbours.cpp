@@ -58,6 +58,14 @@ void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRo
 
 namespace {
 
+constexpr int kReformed = ReformedBonds::kPerParticle;
+
+// The other particle of the re-formed bond in slot s, seen from particle i.
+std::int32_t reformed_other(const NucleusState& state, std::int32_t s, std::int32_t i) {
+  const std::int32_t a = state.reformed.ij[2 * s], b = state.reformed.ij[2 * s + 1];
+  return a == i ? b : a;
+}
+
 // Row i: every particle within R + skin of i at the last grid build, with the bond between
 // them (-1 if none). Computed at most once per grid build, when i first takes part in a step.
 void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
@@ -73,6 +81,15 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
     if (rows.partner_bond[other] < 0 || !state.bond_alive[rows.partner_bond[other]])
       rows.partner_bond[other] = b;
   }
+  // Re-formed bonds (index B + slot; only between particles without a live built bond).
+  const std::int32_t* reformed_of =
+      model.rebonding ? state.reformed.of.data() + static_cast<std::size_t>(i) * kReformed
+                      : nullptr;
+  if (reformed_of != nullptr)
+    for (int a = 0; a < kReformed; ++a)
+      if (const std::int32_t s = reformed_of[a]; s >= 0)
+        rows.partner_bond[reformed_other(state, s, i)] =
+            static_cast<std::int32_t>(model.bonds.size()) + s;
   const std::size_t start = rows.used;
   const std::size_t cap = rows.j.size();
   const Vec3 xi = rows.x_built[i];
@@ -105,6 +122,10 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
     const std::int32_t b = model.bonds.adj[k];
     rows.partner_bond[model.bonds.other(b, i)] = -1;
   }
+  if (reformed_of != nullptr)
+    for (int a = 0; a < kReformed; ++a)
+      if (const std::int32_t s = reformed_of[a]; s >= 0)
+        rows.partner_bond[reformed_other(state, s, i)] = -1;
   const std::size_t len = rows.used - start;
   rows.start[i] = static_cast<std::int32_t>(start);
   rows.len[i] = static_cast<std::int32_t>(len);
@@ -150,7 +171,8 @@ class PairBuilder {
   PairBuilder(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work)
       : model_(model), state_(state), rows_(work.rows), step_(work.step), pairs_(work.pairs),
         loose_(work.loose), work_(work), R2_(model.radius * model.radius),
-        Rd2_(model.density_radius * model.density_radius), cap_(work.pairs.cap) {}
+        Rd2_(model.density_radius * model.density_radius), cap_(work.pairs.cap),
+        nb_(static_cast<std::int32_t>(model.bonds.size())) {}
 
   // The awake particles take the first local numbers, in the order of the awake list.
   void number_awake() {
@@ -260,10 +282,11 @@ class PairBuilder {
       }
     }
     if (bonds.loose_possible) {
+      // (Re-formed bonds, from index B on, are never loose.)
       for (std::size_t p = 0; p < pairs_.near; ++p)
-        if (pairs_.bond[p] >= 0) loose_.in_pair[pairs_.bond[p]] = 0;
+        if (pairs_.bond[p] >= 0 && pairs_.bond[p] < nb_) loose_.in_pair[pairs_.bond[p]] = 0;
       for (std::size_t p = cap_ - pairs_.far; p < cap_; ++p)
-        if (pairs_.bond[p] >= 0) loose_.in_pair[pairs_.bond[p]] = 0;
+        if (pairs_.bond[p] >= 0 && pairs_.bond[p] < nb_) loose_.in_pair[pairs_.bond[p]] = 0;
     }
   }
 
@@ -286,9 +309,9 @@ class PairBuilder {
     pairs_.j[p] = lj;
     pairs_.r[p] = r;
     pairs_.n[p] = d * (1.0 / r);
-    if (bond >= 0 && !state_.bond_alive[bond]) bond = -1;
+    if (bond >= 0 && !bond_intact(model_, state_, bond)) bond = -1;
     pairs_.bond[p] = bond;
-    if (bond >= 0 && model_.bonds.loose_possible) loose_.in_pair[bond] = 1;
+    if (bond >= 0 && model_.bonds.loose_possible && bond < nb_) loose_.in_pair[bond] = 1;
   }
 
   // Starts local particle k's pairs: its Verlet row (built if needed) and where its near and
@@ -362,6 +385,7 @@ class PairBuilder {
   NucleusWorkspace& work_;
   const double R2_, Rd2_;
   const std::size_t cap_;
+  const std::int32_t nb_;  // bonds at build: higher bond indices are re-formed ones
 };
 
 }  // namespace

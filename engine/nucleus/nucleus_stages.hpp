@@ -75,6 +75,21 @@ void integrate_and_project(const NucleusModel& model, NucleusState& state,
                            std::span<const Collider> moving, std::span<BodyReaction> reactions);
 /// Bond breaking (nucleus_bonds.cpp): bonds stretched or compressed beyond their limit break
 /// and wake their particles next step.
-void break_bonds(const NucleusModel& model, NucleusState& state, const NucleusWorkspace& work);
+void break_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work);
+/// Re-bonding (nucleus_cohesion.cpp): touching particles of a re-bonding material that have
+/// rested relative to their neighbours long enough bond at their current distance.
+void reform_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
+                  double dt);
+
+// ---- Re-formed bonds (nucleus_cohesion.cpp) ----
+
+/// Whether bond b (an index of the pairs and rows: below B built, else re-formed) is intact.
+inline bool bond_intact(const NucleusModel& model, const NucleusState& state, std::int32_t b) {
+  const std::size_t nb = model.bonds.size();
+  return static_cast<std::size_t>(b) < nb ? state.bond_alive[b] != 0
+                                          : state.reformed.alive[b - nb] != 0;
+}
+/// Frees the slot of a re-formed bond that broke, and takes it out of the Verlet rows.
+void release_reformed_bond(NucleusState& state, VerletRows& rows, std::int32_t slot);
 
 }  // namespace acdr::nucleus

@@ -17,6 +17,27 @@
 
 namespace acdr {
 
+/// Bonds made during the run between touching particles of a re-bonding material (cohesion,
+/// MaterialConfig::rebond_time_s), in a pool of C slots fixed at build (empty when no material
+/// re-bonds). In the pairs and Verlet rows a re-formed bond in slot s is bond index B + s (B:
+/// the bonds at build). A broken one frees its slot.
+struct ReformedBonds {
+  /// Re-formed bonds a particle can hold at once (the 18 lattice neighbours within 1.5 h).
+  static constexpr int kPerParticle = 18;
+  std::vector<std::int32_t> ij;         // 2C: particles i < j of each slot
+  std::vector<double> rest;             // C, rest length (the distance when made), m
+  std::vector<double> k;                // C, stiffness, N/m
+  std::vector<double> break_hi2;        // C, (L + delta)^2, m^2
+  std::vector<double> break_lo2;        // C, (L - delta)^2, m^2 (0: never)
+  std::vector<std::uint8_t> alive;      // C, 1 while in use
+  std::vector<std::int32_t> free;       // C: [0, free_count) the free slots (a stack)
+  std::size_t free_count = 0;
+  std::vector<std::int32_t> of;         // kPerParticle N: each particle's slots, -1 unused
+  std::vector<double> settled_s;        // N: time at rest relative to its neighbours, s
+  std::size_t made = 0;                 // bonds re-formed so far
+  std::size_t capacity() const { return rest.size(); }
+};
+
 struct NucleusState {
   // ---- Hashed (state_hash) ----
   std::vector<Vec3> x;  // N, positions, m
@@ -38,7 +59,8 @@ struct NucleusState {
 
   // ---- Bonds ----
   std::vector<std::uint8_t> bond_alive;  // B, 1 while intact
-  std::size_t broken_bonds = 0;
+  std::size_t broken_bonds = 0;          // bonds broken so far (re-formed ones included)
+  ReformedBonds reformed;
 
   // ---- Outputs of the last step ----
   std::vector<double> pressure;    // N, Pa, at the end of the last step

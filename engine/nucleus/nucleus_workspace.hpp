@@ -237,6 +237,9 @@ struct NucleusWorkspace {
   ColliderCulling cull;
   SiteSumCache site_cache;
   ColliderFrames frames;
+  // nl, the largest squared rate at which a particle's distance to a neighbour changed this
+  // step, m^2/s^2 (re-bonding only; empty otherwise)
+  std::vector<double> separation_rate2;
   std::vector<std::int32_t> stamp;  // N, scratch marks (wake candidates, lower rows)
   std::int32_t stamp_value = 0;
 };
