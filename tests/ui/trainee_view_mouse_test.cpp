@@ -27,7 +27,7 @@ namespace {
 using namespace std::chrono_literals;
 using test::XTestUser;
 
-TEST(TraineeViewMouse, RealPointerEventsMoveTheInstrumentInThreeAxesAndCutIntoTheNucleus) {
+TEST(TraineeViewMouse, RealPointerEventsMoveTheInstrumentInThreeAxesAndScoopNucleusOut) {
   if (!display_available()) GTEST_SKIP() << "no DISPLAY (run under xvfb-run to test windows)";
   XTestUser user;
   if (!user.ready()) GTEST_SKIP() << "the X server has no XTEST extension";
