@@ -173,6 +173,9 @@ std::string store_run(Database& db, std::int64_t attempt_id, const AttemptRun& r
   outcome.metrics = run.metrics;
   outcome.score = run.score;
   outcome.duration_s = world.time_s();
+  // As the trainee saw it (below 1: slow motion), or how fast a headless replay ran: the same
+  // figure as the result's realtime_factor.
+  outcome.realtime_factor = run.wall_s > 0 ? world.time_s() / run.wall_s : -1.0;
   outcome.events = event_records(run.record.events, run.record.summary.zones);
   RecordingData recording;
   recording.format = kRecordingFormat;

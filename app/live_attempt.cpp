@@ -137,6 +137,7 @@ bool LiveAttempt::tick() {
   // The device loop ends only after this one, unless its step threw: then no pose will come.
   if (device_loop_ && device_loop_->finished()) stepper_.stop(AttemptEnd::kStopped);
   const bool more = stepper_.step();
+  simulated_s_.store(world_.time_s(), std::memory_order_relaxed);
   // Each step's frame (a few hundred bytes) to the checkpoint staging buffer.
   if (checkpoints_) checkpoints_->stage(stepper_.record());
   if (!more) {

@@ -85,6 +85,9 @@ class LiveAttempt {
   }
   /// True when the device has its own loop (a live device).
   bool decoupled() const { return decoupled_; }
+  /// The simulated time the physics has reached (s), readable from any thread: a device that
+  /// counts its motion in simulated seconds (the mouse) moves the same in slow motion.
+  double simulated_time_s() const { return simulated_s_.load(std::memory_order_relaxed); }
   /// The bone's solver thread of this attempt (null when the scene does not model the bone).
   BoneStressWorker* bone_worker() { return stepper_.bone_worker(); }
   /// Device ticks whose force was clamped, or zeroed for stale, non-finite or jumped input.
@@ -129,6 +132,7 @@ class LiveAttempt {
   std::chrono::steady_clock::time_point device_start_;
   std::atomic<std::int64_t> clamped_ticks_{0};
   std::atomic<std::int64_t> zeroed_ticks_{0};
+  std::atomic<double> simulated_s_{0.0};  ///< world time after the newest step
   LatestValue<LiveView> view_;
   std::atomic<bool> view_wanted_{true};
   std::atomic<bool> stop_requested_{false};

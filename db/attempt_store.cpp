@@ -25,7 +25,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kAttemptColumns =
     "id, uuid, registration, trainee_id, module_id, status, started_utc, ended_utc, "
     "heartbeat_utc, duration_s, input_device, program_version, scenario_hash, override_lock, "
-    "override_by, override_reason, score, passed, abort_reason, writer_pid, writer_host";
+    "override_by, override_reason, score, passed, abort_reason, writer_pid, writer_host, "
+    "realtime_factor";
 
 std::string attempt_where(const Database& db, std::int64_t id) {
   return db.path() + ": attempt " + std::to_string(id) + ": ";
@@ -231,6 +232,7 @@ AttemptRecord read_attempt_row(const Statement& s) {
   a.abort_reason = s.column_text(18);
   a.writer_pid = s.column_int64(19);
   a.writer_host = s.column_text(20);
+  a.realtime_factor = s.column_optional_double(21);
   a.score_detail.score = a.score.value_or(0.0);
   a.score_detail.passed = a.passed.value_or(false);
   return a;
@@ -565,12 +567,16 @@ DbStatus finish_attempt(Database& db, std::int64_t attempt_id, const AttemptOutc
   }
   const std::optional<double> duration =
       outcome.duration_s >= 0.0 ? std::optional<double>(outcome.duration_s) : std::nullopt;
+  const std::optional<double> realtime_factor =
+      std::isfinite(outcome.realtime_factor) && outcome.realtime_factor > 0.0
+          ? std::optional<double>(outcome.realtime_factor)
+          : std::nullopt;
   DbResult<Statement> s = db.prepare(
       "UPDATE attempts SET status = 'completed', ended_utc = ?, heartbeat_utc = ?, "
-      "duration_s = ?, score = ?, passed = ? WHERE id = ?");
+      "duration_s = ?, realtime_factor = ?, score = ?, passed = ? WHERE id = ?");
   if (!s) return s.error();
-  if (DbStatus b = s->bind_all(ended, ended, duration, outcome.score.score, outcome.score.passed,
-                               attempt_id);
+  if (DbStatus b = s->bind_all(ended, ended, duration, realtime_factor, outcome.score.score,
+                               outcome.score.passed, attempt_id);
       !b) {
     return b;
   }

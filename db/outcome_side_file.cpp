@@ -28,7 +28,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::string_view kMagic = "acdr-unsaved-attempt\n";
-constexpr std::uint32_t kFormatVersion = 1;
+// 2: the real-time factor after the duration. Version 1 files (without it) are still read.
+constexpr std::uint32_t kFormatVersion = 2;
 constexpr std::string_view kSuffix = ".unsaved";
 // Far above any attempt's recording (a 20-minute attempt compresses to ~110 MB) and below
 // what would exhaust memory when read back.
@@ -283,6 +284,7 @@ DbResult<std::string> write_unsaved_outcome(const std::string& db_path,
   w.str(unsaved.attempt_uuid);
   w.str(o.ended_utc);
   w.f64(o.duration_s);
+  w.f64(o.realtime_factor);
   w.u32(static_cast<std::uint32_t>(o.metrics.values.size()));
   for (const auto& [name, value] : o.metrics.values) {
     w.str(name);
@@ -373,8 +375,8 @@ DbResult<UnsavedOutcome> read_unsaved_outcome(const std::string& path) {
   Reader r(bytes, body);
   r.span_of(kMagic.size(), "magic");
   const std::uint32_t version = r.u32("version");
-  if (r.error().empty() && version != kFormatVersion)
-    return damaged("format version " + std::to_string(version) + " (expected " +
+  if (r.error().empty() && (version < 1 || version > kFormatVersion))
+    return damaged("format version " + std::to_string(version) + " (expected 1 to " +
                    std::to_string(kFormatVersion) + ")");
   UnsavedOutcome u;
   AttemptOutcome& o = u.outcome;
@@ -382,6 +384,7 @@ DbResult<UnsavedOutcome> read_unsaved_outcome(const std::string& path) {
   u.attempt_uuid = r.str("attempt uuid");
   o.ended_utc = r.str("end time");
   o.duration_s = r.f64("duration");
+  if (version >= 2) o.realtime_factor = r.f64("real-time factor");
   for (std::uint32_t i = 0, n = r.count("metrics", 12); i < n; ++i) {
     std::string name = r.str("metric name");
     o.metrics.values.emplace_back(std::move(name), r.f64("metric value"));

@@ -103,6 +103,9 @@ struct AttemptOutcome {
   std::vector<EventRecord> events;          ///< all events of the attempt, in time order
   std::optional<RecordingData> recording;   ///< the whole stream
   double duration_s = -1.0;                 ///< simulated duration (s); < 0: unknown
+  /// Simulated seconds per wall-clock second over the attempt (below 1: slow motion, as the
+  /// trainee saw it; a headless replay's own speed); <= 0 or not finite: unknown (stored NULL).
+  double realtime_factor = -1.0;
   std::string ended_utc;                    ///< empty: now
 };
 
@@ -118,6 +121,9 @@ struct AttemptRecord {
   std::optional<std::string> ended_utc;
   std::string heartbeat_utc;  ///< last sign of life of the writer (begin or checkpoint)
   std::optional<double> duration_s;
+  /// Simulated seconds per wall-clock second over the attempt; nullopt: not known (attempts
+  /// stored before the record kept it, aborted attempts).
+  std::optional<double> realtime_factor;
   std::string input_device;
   std::string program_version;
   std::string scenario_hash;

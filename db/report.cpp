@@ -241,9 +241,10 @@ void write_report_table(const ReportData& data, std::ostream& out) {
     }
   }
 
-  std::vector<std::string> headers = {"id",     "trainee", "module",   "started (UTC)", "status",
-                                      "score",  "result",  "time (s)", "events"};
-  std::vector<bool> right = {true, false, false, false, false, true, false, true, true};
+  std::vector<std::string> headers = {"id",       "trainee",   "module", "started (UTC)",
+                                      "status",   "score",     "result", "time (s)",
+                                      "real time", "events"};
+  std::vector<bool> right = {true, false, false, false, false, true, false, true, true, true};
   for (const std::string& name : metric_columns) {
     headers.push_back(name);
     right.push_back(true);
@@ -259,6 +260,7 @@ void write_report_table(const ReportData& data, std::ostream& out) {
         a.score ? fixed(*a.score, 1) : "-",
         result_word(a),
         a.duration_s ? fixed(*a.duration_s, 1) : "-",
+        a.realtime_factor ? fixed(*a.realtime_factor, 2) + "x" : "-",
         std::to_string(a.events.size())};
     for (const std::string& name : metric_columns) {
       const auto it = std::find_if(a.metrics.values.begin(), a.metrics.values.end(),
@@ -302,7 +304,8 @@ void write_report_csv(const ReportData& data, std::ostream& out) {
   const char* kEol = "\r\n";  // RFC 4180 section 2.1
   const std::vector<std::string> fixed_columns = {
       "attempt_id",   "attempt_uuid",    "registration",  "trainee",      "module",
-      "status",       "started_utc",     "ended_utc",     "duration_s",   "score",
+      "status",       "started_utc",     "ended_utc",     "duration_s",   "realtime_factor",
+      "score",
       "passed",       "override",        "override_by",   "override_reason", "input_device",
       "program_version", "scenario_hash", "abort_reason", "event_count"};
   std::string header;
@@ -327,6 +330,7 @@ void write_report_csv(const ReportData& data, std::ostream& out) {
         csv_text(a.started_utc),
         csv_text(a.ended_utc.value_or("")),
         a.duration_s ? csv_number(*a.duration_s) : "",
+        a.realtime_factor ? csv_number(*a.realtime_factor) : "",
         a.score ? csv_number(*a.score) : "",
         a.passed ? (*a.passed ? "true" : "false") : "",
         a.override_lock ? "true" : "false",
@@ -389,6 +393,7 @@ void write_report_json(const ReportData& data, std::ostream& out) {
                             {"started_utc", a.started_utc},
                             {"ended_utc", optional_text(a.ended_utc)},
                             {"duration_s", optional_number(a.duration_s)},
+                            {"realtime_factor", optional_number(a.realtime_factor)},
                             {"score", optional_number(a.score)},
                             {"passed", a.passed ? Json(*a.passed) : Json(nullptr)},
                             {"override", override_json},

@@ -221,11 +221,20 @@ CREATE INDEX xapi_outbox_queued ON xapi_outbox(id) WHERE state = 'queued';
 CREATE INDEX xapi_outbox_by_attempt ON xapi_outbox(attempt_id);
 )sql";
 
+// v4: the real-time factor of an attempt (simulated seconds per second of the wall clock over
+// the attempt; below 1 the trainee saw slow motion). NULL for attempts stored before it was
+// kept, and for those that do not know it.
+constexpr const char* kSchemaV4 = R"sql(
+ALTER TABLE attempts ADD COLUMN realtime_factor REAL
+  CHECK (realtime_factor IS NULL OR realtime_factor > 0);
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "training record v1: trainees, curricula, modules, attempts, metrics, events, recordings",
      kSchemaV1},
     {2, "events with NULL zone and zone index; recording chunks for checkpoints", kSchemaV2},
     {3, "outbox of xAPI statements for a learning record store", kSchemaV3},
+    {4, "real-time factor of an attempt", kSchemaV4},
 };
 
 static_assert(std::size(kMigrations) == kSchemaVersion,

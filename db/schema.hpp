@@ -14,7 +14,7 @@ namespace acdr {
 class Database;
 
 /// The schema version this program writes and understands.
-inline constexpr int kSchemaVersion = 3;
+inline constexpr int kSchemaVersion = 4;
 
 /// PRAGMA application_id of an ACDR record: "ACDR" in ASCII. Lets us refuse another program's
 /// SQLite file instead of adding our tables to it.

@@ -115,7 +115,6 @@ void BoneStressPane::show_time(double t_s) {
 void draw_bone_stress_pane(BoneStressPane& pane, double* t_s) {
   pane.show_time(*t_s);
   ImGui::TextUnformatted("Bone stress at the disc");
-  ImGui::SameLine();
   char label[96];
   std::snprintf(label, sizeof label, "Peak bone load (%.2f N at %.2f s)", pane.peak_load_N(),
                 pane.peak_load_t_s());
@@ -124,8 +123,12 @@ void draw_bone_stress_pane(BoneStressPane& pane, double* t_s) {
     pane.show_time(*t_s);
   }
   ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.62f, 0.64f, 0.68f, 1.0f));
-  ImGui::Text("sample at %.2f s, %.2f N on the bone%s; anterior up", pane.sample_t_s(),
-              pane.sample_load_N(), pane.sample_solved() ? "" : " (too little to solve: no stress)");
+  ImGui::TextWrapped("sample at %.2f s, %.2f N on the bone%s. C4's lower endplate from below, "
+                     "C5's upper from above, anterior up; endplate peaks %.3g and %.3g MPa.",
+                     pane.sample_t_s(), pane.sample_load_N(),
+                     pane.sample_solved() ? "" : " (too little to solve: no stress)",
+                     pane.surface(0).endplate_peak_Pa * 1e-6,
+                     pane.surface(1).endplate_peak_Pa * 1e-6);
   ImGui::PopStyleColor();
 
   // Both views at one scale: x across, anterior (+z in the segment frame) up.
@@ -137,7 +140,9 @@ void draw_bone_stress_pane(BoneStressPane& pane, double* t_s) {
   const float legend_w = 86.0f, gap = 8.0f;
   const float panel_w = std::max(
       80.0f, (ImGui::GetContentRegionAvail().x - legend_w - 2.0f * gap) * 0.5f);
-  const float panel_h = std::min(190.0f, panel_w * 0.85f);
+  // As tall as the pane has room for, up to a little less than square.
+  const float panel_h = std::clamp(ImGui::GetContentRegionAvail().y - 4.0f, 60.0f,
+                                   std::min(190.0f, panel_w * 0.85f));
   const double scale =
       std::min((panel_w - 12.0) / box.sizes().x(), (panel_h - 44.0) / box.sizes().y());
   const double top = pane.scale_top_Pa();
@@ -167,11 +172,7 @@ void draw_bone_stress_pane(BoneStressPane& pane, double* t_s) {
                             ImGui::ColorConvertFloat4ToU32(
                                 ImVec4(c[0] * shade, c[1] * shade, c[2] * shade, 1.0f)));
     }
-    char title[96];
-    std::snprintf(title, sizeof title, "%s", v == 0 ? "C4 lower, from below" : "C5 upper, from above");
-    dl->AddText(ImVec2(a.x + 5, a.y + 3), IM_COL32(225, 225, 230, 255), title);
-    std::snprintf(title, sizeof title, "endplate peak %.3g MPa", s.endplate_peak_Pa * 1e-6);
-    dl->AddText(ImVec2(a.x + 5, b.y - 17), IM_COL32(225, 225, 230, 255), title);
+    dl->AddText(ImVec2(a.x + 5, a.y + 3), IM_COL32(225, 225, 230, 255), v == 0 ? "C4" : "C5");
     dl->PopClipRect();
     dl->AddRect(a, b, IM_COL32(90, 92, 98, 255));
   }

@@ -315,14 +315,15 @@ std::string dashboard_csv(const DashboardModel& model, const DashboardSelection&
       for (const auto& [name, value] : a.metrics.values)
         if (std::find(metrics.begin(), metrics.end(), name) == metrics.end())
           metrics.push_back(name);
-    csv = "attempt_id,trainee_id,module_id,started_utc,status,duration_s,score,passed,"
-          "input_device";
+    csv = "attempt_id,trainee_id,module_id,started_utc,status,duration_s,realtime_factor,score,"
+          "passed,input_device";
     for (const std::string& m : metrics) csv += "," + csv_text(m);
     csv += "\n";
     for (const AttemptRecord& a : t->attempts) {
       csv += std::to_string(a.id) + "," + csv_text(t->info.id) + "," + csv_text(a.module_id) +
              "," + csv_text(a.started_utc) + "," + attempt_status_name(a.status) + "," +
-             csv_optional(a.duration_s) + "," + csv_optional(a.score) + "," +
+             csv_optional(a.duration_s) + "," + csv_optional(a.realtime_factor) + "," +
+             csv_optional(a.score) + "," +
              (a.passed ? (*a.passed ? "1" : "0") : "") + "," + csv_text(a.input_device);
       for (const std::string& m : metrics) {
         const double* v = a.metrics.find(m);

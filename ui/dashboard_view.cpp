@@ -8,9 +8,12 @@
 #include <cmath>
 #include <cstdio>
 
+#include <imgui_internal.h>  // BeginComboPreview: the chooser's preview laid out as text
+
 #include "ui/imgui_style.hpp"
 #include "ui/plot_widgets.hpp"
 #include "ui/score_table_view.hpp"
+#include "ui/trainee_hud.hpp"
 
 namespace acdr {
 namespace {
@@ -98,11 +101,21 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
   }
   const int columns = 1 + static_cast<int>(model.modules.size());
   if (ImGui::BeginTable("progress", columns,
-                        ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchSame)) {
-    ImGui::TableSetupColumn("Trainee");
+                        ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
+    ImGui::TableSetupColumn("Trainee", ImGuiTableColumnFlags_WidthStretch, 0.8f);
     for (const ModuleRecord& m : model.modules)
-      ImGui::TableSetupColumn((std::to_string(m.position) + ". " + m.id).c_str());
-    ImGui::TableHeadersRow();
+      ImGui::TableSetupColumn((std::to_string(m.position) + ". " + m.id).c_str(),
+                              ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    // The header row drawn as wrapped text: with four modules beside the learning curve a
+    // column is narrower than "4. c4c5-full-discectomy", and a header row would cut it.
+    ImGui::TableNextRow(ImGuiTableRowFlags_Headers);
+    for (int c = 0; c < columns; ++c) {
+      ImGui::TableSetColumnIndex(c);
+      ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, ImGui::GetColorU32(ImGuiCol_TableHeaderBg));
+      ImGui::PushTextWrapPos(0.0f);
+      ImGui::TextUnformatted(ImGui::TableGetColumnName(c));
+      ImGui::PopTextWrapPos();
+    }
     for (const DashboardTrainee& t : model.trainees) {
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
@@ -125,8 +138,10 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
           actions->attempt_changed = true;
         }
         if (p->run.attempts > 0) {
-          ImGui::TextColored(ui_colors::kMuted, "%d tries, run %d/%d", p->run.attempts,
-                             p->run.consecutive_at_end, p->required_consecutive);
+          ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
+          ImGui::TextWrapped("%d tries, run %d/%d", p->run.attempts, p->run.consecutive_at_end,
+                             p->required_consecutive);
+          ImGui::PopStyleColor();
         }
       }
     }
@@ -140,22 +155,36 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
 }
 
 // ---- learning curve --------------------------------------------------------------------------
+const ModuleRecord* chosen_module(const DashboardModel& model, const DashboardSelection& sel) {
+  const ModuleRecord* module = model.find_module(sel.module_id);
+  if (!module && !model.modules.empty()) module = &model.modules.front();
+  return module;
+}
+
 void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
                          DashboardSelection& sel, DashboardActions* actions) {
   section_title(("Learning curve: " + t.info.id).c_str());
-  // Module chooser.
-  const ModuleRecord* module = model.find_module(sel.module_id);
-  if (!module && !model.modules.empty()) module = &model.modules.front();
+  const ModuleRecord* module = chosen_module(model, sel);
   if (!module) return;
-  ImGui::SetNextItemWidth(320);
-  if (ImGui::BeginCombo("Module", (module->id + ": " + module->title).c_str())) {
+  // Module chooser, as wide as the column allows beside its label. The preview is laid out
+  // as text inside the box (not clipped by the box silently), so a preview that does not fit
+  // shows as cut text to the layout tests; the list shows each module's id and title.
+  const char* label = "Module";
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - ImGui::CalcTextSize(label).x -
+                          ImGui::GetStyle().ItemInnerSpacing.x);
+  if (ImGui::BeginCombo(label, nullptr, ImGuiComboFlags_CustomPreview)) {
     for (const ModuleRecord& m : model.modules)
-      if (ImGui::Selectable((m.id + ": " + m.title).c_str(), m.id == module->id)) {
+      if (ImGui::Selectable((std::to_string(m.position) + ". " + m.id + ": " + m.title).c_str(),
+                            m.id == module->id)) {
         sel.module_id = m.id;
         sel.attempt_id = 0;
         actions->attempt_changed = true;
       }
     ImGui::EndCombo();
+  }
+  if (ImGui::BeginComboPreview()) {
+    ImGui::TextUnformatted((std::to_string(module->position) + ". " + module->id).c_str());
+    ImGui::EndComboPreview();
   }
   const auto attempts = curve_attempts(t, module->id);
   std::vector<float> xs, ys;
@@ -169,7 +198,7 @@ void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
   }
   PlotOptions o;
   o.id = "curve";
-  o.size = ImVec2(-1, 150);
+  o.size = ImVec2(-1, 110);
   o.x_min = 0.5f;
   o.x_max = static_cast<float>(std::max<std::size_t>(attempts.size(), 2)) + 0.5f;
   o.y_min = 0;
@@ -189,8 +218,17 @@ void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
   const std::array<PlotSeries, 1> series{s};
   const std::array<PlotLine, 1> lines{pass};
   draw_plot(o, series, lines);
+}
 
-  // The progression rule's state.
+// The progression rule's state at the chosen module and its attempts, selectable for the
+// drill-down.
+void draw_attempt_list(const DashboardModel& model, const DashboardTrainee& t,
+                       DashboardSelection& sel, DashboardActions* actions) {
+  const ModuleRecord* module = chosen_module(model, sel);
+  if (!module) return;
+  section_title(("Attempts at " + module->id).c_str());
+  const auto attempts = curve_attempts(t, module->id);
+  ImGui::PushTextWrapPos(0.0f);
   for (const ModuleProgress& p : t.progress) {
     if (p.module_id != module->id) continue;
     const std::string state = progress_state(p);
@@ -209,16 +247,23 @@ void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
                   p.run.attempts, p.run.passes);
     }
   }
+  ImGui::PopTextWrapPos();
 
-  // The attempts, selectable for the drill-down.
-  if (ImGui::BeginTable("attempts", 6,
+  if (ImGui::BeginTable("attempts", 5,
                         ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
                             ImGuiTableFlags_SizingStretchProp | ImGuiTableFlags_ScrollY,
-                        ImVec2(0, std::min(112.0f, 26.0f + 22.0f * attempts.size())))) {
+                        ImVec2(0, std::min(130.0f, 26.0f + 40.0f * attempts.size())))) {
     ImGui::TableSetupScrollFreeze(0, 1);
-    for (const char* h : {"#", "attempt", "started (UTC)", "status", "score", "result"})
-      ImGui::TableSetupColumn(h);
+    // The try's number and the record's id as narrow as their digits; the rest share the width
+    // and wrap ("11-26" over "16:48", "not" over "passed") rather than being cut.
+    const float digits = ImGui::CalcTextSize("999").x;
+    ImGui::TableSetupColumn("#", ImGuiTableColumnFlags_WidthFixed, digits);
+    ImGui::TableSetupColumn("id", ImGuiTableColumnFlags_WidthFixed, digits);
+    ImGui::TableSetupColumn("started", ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    ImGui::TableSetupColumn("score", ImGuiTableColumnFlags_WidthStretch, 0.8f);
+    ImGui::TableSetupColumn("result", ImGuiTableColumnFlags_WidthStretch, 1.1f);
     ImGui::TableHeadersRow();
+    ImGui::PushTextWrapPos(0.0f);
     for (std::size_t i = 0; i < attempts.size(); ++i) {
       const AttemptRecord& a = *attempts[i];
       ImGui::TableNextRow();
@@ -233,16 +278,20 @@ void draw_learning_curve(const DashboardModel& model, const DashboardTrainee& t,
       ImGui::TableNextColumn();
       ImGui::Text("%lld", static_cast<long long>(a.id));
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(short_time(a.started_utc).c_str());
-      ImGui::TableNextColumn();
-      ImGui::TextUnformatted(attempt_status_name(a.status));
+      ImGui::TextWrapped("%s", short_time(a.started_utc).c_str());
       ImGui::TableNextColumn();
       if (a.score) ImGui::Text("%.1f", *a.score);
       ImGui::TableNextColumn();
-      if (a.passed)
-        ImGui::TextColored(*a.passed ? ui_colors::kOk : ui_colors::kDanger, "%s",
-                           *a.passed ? "passed" : "not passed");
+      // passed / not passed for a completed attempt, else its status (aborted, running).
+      ImGui::PushStyleColor(ImGuiCol_Text, !a.passed  ? ui_colors::kMuted
+                                           : *a.passed ? ui_colors::kOk
+                                                       : ui_colors::kDanger);
+      ImGui::TextWrapped("%s", !a.passed   ? attempt_status_name(a.status)
+                               : *a.passed ? "passed"
+                                           : "not passed");
+      ImGui::PopStyleColor();
     }
+    ImGui::PopTextWrapPos();
     ImGui::EndTable();
   }
 }
@@ -256,7 +305,8 @@ void draw_metrics_table(const AttemptDrillDown& d) {
     ImGui::TextColored(ui_colors::kDanger, "- Zones: %s", z.c_str());
   for (const std::string& r : d.record.score_detail.reasons)
     ImGui::TextColored(ui_colors::kWarning, "- %s", r.c_str());
-  if (ImGui::TreeNode("How to read the scores: 50 = the experts' mean, 10 points per expert SD")) {
+  if (ImGui::TreeNode("How to read the scores")) {
+    ImGui::TextColored(ui_colors::kMuted, "50 = the experts' mean, 10 points per expert SD.");
     for (const std::string& line : d.scale) ImGui::TextColored(ui_colors::kMuted, "%s", line.c_str());
     ImGui::TreePop();
   }
@@ -333,7 +383,7 @@ void draw_time_plots(const AttemptDrillDown& d, DashboardSelection& sel) {
   PlotOptions force;
   force.id = "force";
   force.title = "Force over time";
-  force.size = ImVec2(-1, 160);
+  force.size = ImVec2(-1, 130);
   force.x_min = 0;
   force.x_max = static_cast<float>(std::max(d.duration_s, 1e-3));
   force.x_label = "time (s)";
@@ -361,7 +411,7 @@ void draw_time_plots(const AttemptDrillDown& d, DashboardSelection& sel) {
   PlotOptions moment = force;
   moment.id = "moment";
   moment.title = "Shaft bending moment";
-  moment.size = ImVec2(-1, 120);
+  moment.size = ImVec2(-1, 100);
   moment.y_label = "N·m";
   const PlotSeries m = line_series(d.t_s, d.moment_Nm, IM_COL32(200, 160, 255, 255), "moment");
   const std::array<PlotSeries, 1> ms{m};
@@ -386,12 +436,12 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
   const Frame& f = r.frames[i];
   ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
   ImGui::TextWrapped(
-      "Particles are not recorded: the replay shows the instrument, its tip path (colour: "
-      "force on the hand) and the nucleus removed so far.");
+      "The instrument and its tip path (colour: force on the hand); particles are not "
+      "recorded.");
   ImGui::PopStyleColor();
-  ImGui::Text("removed %.1f %%   hand %.2f N   tissue %.2f N   moment %.3f N·m",
-              100.0 * d.removed_fraction[i], d.hand_force_N[i], d.tissue_force_N[i],
-              f.bending_moment_Nm);
+  ImGui::TextWrapped("removed %.1f %%   hand %.2f N   tissue %.2f N   moment %.3f N·m",
+                     100.0 * d.removed_fraction[i], d.hand_force_N[i], d.tissue_force_N[i],
+                     f.bending_moment_Nm);
 
   // Geometry from the model (box walls, the instrument at this frame's grip pose) and what is
   // drawn: the walls, the whole tip path and the instrument's working end now.
@@ -406,7 +456,10 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
   box.extend(box.max() + pad);
 
   const float panel_w = (ImGui::GetContentRegionAvail().x - 10.0f) * 0.5f;
-  const float panel_h = 170.0f;
+  // The panels take the height left in the pane (under their titles), up to a square-ish shape.
+  const float panel_h = std::clamp(
+      ImGui::GetContentRegionAvail().y - ImGui::GetTextLineHeightWithSpacing() - 2.0f, 60.0f,
+      std::min(170.0f, panel_w * 0.9f));
   const double device_max = std::max(r.summary.device_max_force_N, 1e-6);
   for (int view = 0; view < 2; ++view) {
     if (view == 1) ImGui::SameLine(0, 10);
@@ -523,44 +576,85 @@ void draw_attempt(const AttemptDrillDown& d, DashboardSelection& sel) {
                        *a.passed ? "PASSED" : "NOT PASSED");
   }
   ImGui::SameLine();
-  ImGui::TextColored(ui_colors::kMuted, "  input %s, %.1f s, program %s, scenario %s",
-                     a.input_device.c_str(), a.duration_s.value_or(0.0),
-                     a.program_version.c_str(), a.scenario_hash.substr(0, 8).c_str());
+  ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
+  ImGui::TextWrapped("  input %s, %.1f s, program %s, scenario %s", a.input_device.c_str(),
+                     a.duration_s.value_or(0.0), a.program_version.c_str(),
+                     a.scenario_hash.substr(0, 8).c_str());
+  ImGui::PopStyleColor();
+  // How fast the simulation ran: for a live input, what the trainee saw (slow motion below
+  // 0.95x); for a replay, only the machine's speed.
+  if (a.realtime_factor) {
+    const bool live = a.input_device.rfind("replay:", 0) != 0;
+    if (live && is_slow_motion(*a.realtime_factor))
+      ImGui::TextColored(ui_colors::kWarning,
+                         "Ran at %.2fx real time: the trainee saw slow motion.",
+                         *a.realtime_factor);
+    else
+      ImGui::TextColored(ui_colors::kMuted, "Ran at %.2fx real time%s.", *a.realtime_factor,
+                         live ? "" : " (a replay: the machine's speed)");
+  } else {
+    ImGui::TextColored(ui_colors::kMuted, "Real-time factor not recorded.");
+  }
   if (a.override_lock)
     ImGui::TextColored(ui_colors::kWarning, "Locked module taken by override of %s: %s",
                        a.override_by.c_str(), a.override_reason.c_str());
   if (!a.abort_reason.empty())
     ImGui::TextColored(ui_colors::kWarning, "Aborted: %s", a.abort_reason.c_str());
+  if (!d.scenario_error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
+    ImGui::TextWrapped("Benchmarks and box outline unavailable: %s", d.scenario_error.c_str());
+    ImGui::PopStyleColor();
+  }
 
-  if (ImGui::BeginTable("drill", 2, ImGuiTableFlags_SizingStretchProp)) {
-    ImGui::TableSetupColumn("left", ImGuiTableColumnFlags_WidthStretch, 1.0f);
-    ImGui::TableSetupColumn("right", ImGuiTableColumnFlags_WidthStretch, 1.1f);
+  // Three columns filling what is left of the pane, so that everything shows at once on a
+  // 1280 x 800 screen: the metrics and events (scrolling in their column), the plots over time
+  // (scrolling in theirs), and the replay with the bone stress, which must fit as they are
+  // (no scrollbar: the layout tests see it if they do not).
+  const float body_h = std::max(ImGui::GetContentRegionAvail().y, 300.0f);
+  if (ImGui::BeginTable("drill", 3, ImGuiTableFlags_SizingStretchProp, ImVec2(0, body_h))) {
+    ImGui::TableSetupColumn("metrics", ImGuiTableColumnFlags_WidthStretch, 1.35f);
+    ImGui::TableSetupColumn("plots", ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    ImGui::TableSetupColumn("replay", ImGuiTableColumnFlags_WidthStretch, 1.05f);
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
+    const float child_h = body_h - ImGui::GetStyle().CellPadding.y * 2.0f;
+    // The scrollbars always there, so the width the text wraps to never changes under it.
+    const ImGuiWindowFlags scrolling = ImGuiWindowFlags_AlwaysVerticalScrollbar;
+    ImGui::BeginChild("metrics", ImVec2(0, child_h), false, scrolling);
     draw_metrics_table(d);
     ImGui::Spacing();
-    if (d.recording) {
-      draw_event_timeline(d, sel);
-      draw_removed_plot(d, sel);
-    }
+    if (d.recording) draw_event_timeline(d, sel);
+    ImGui::EndChild();
     ImGui::TableNextColumn();
+    ImGui::BeginChild("plots", ImVec2(0, child_h), false, scrolling);
     if (d.recording) {
       draw_time_plots(d, sel);
-      draw_replay(d, sel);
-      if (d.bone_stress) {
-        ImGui::Spacing();
-        draw_bone_stress_pane(*d.bone_stress, &sel.replay_t_s);
-      } else if (!d.bone_stress_note.empty()) {
-        ImGui::TextColored(ui_colors::kMuted, "No bone stress: %s", d.bone_stress_note.c_str());
-      }
+      draw_removed_plot(d, sel);
     } else {
-      ImGui::TextColored(ui_colors::kWarning, "No replay: %s", d.recording_error.c_str());
+      ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kWarning);
+      ImGui::TextWrapped("No replay: %s", d.recording_error.c_str());
+      ImGui::PopStyleColor();
+    }
+    ImGui::EndChild();
+    ImGui::TableNextColumn();
+    const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse;
+    if (d.recording) {
+      const bool bone = d.bone_stress != nullptr;
+      ImGui::BeginChild("replay", ImVec2(0, bone ? child_h * 0.55f : child_h), false, fixed);
+      draw_replay(d, sel);
+      ImGui::EndChild();
+      if (bone) {
+        ImGui::BeginChild("bone stress", ImVec2(0, 0), false, fixed);
+        draw_bone_stress_pane(*d.bone_stress, &sel.replay_t_s);
+        ImGui::EndChild();
+      } else if (!d.bone_stress_note.empty()) {
+        ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
+        ImGui::TextWrapped("No bone stress: %s", d.bone_stress_note.c_str());
+        ImGui::PopStyleColor();
+      }
     }
     ImGui::EndTable();
   }
-  if (!d.scenario_error.empty())
-    ImGui::TextColored(ui_colors::kMuted, "Benchmarks and box outline unavailable: %s",
-                       d.scenario_error.c_str());
 }
 
 }  // namespace
@@ -582,18 +676,26 @@ void draw_dashboard(const DashboardModel& model, DashboardSelection& sel,
   ImGui::EndChild();
   ImGui::SameLine();
   ImGui::BeginChild("right", ImVec2(0, -footer), true);
-  // Progress matrix and learning curve side by side, the drill-down below at full width.
-  if (ImGui::BeginTable("top", 2, ImGuiTableFlags_SizingStretchProp)) {
-    ImGui::TableSetupColumn("matrix", ImGuiTableColumnFlags_WidthStretch, 1.0f);
-    ImGui::TableSetupColumn("curve", ImGuiTableColumnFlags_WidthStretch, 1.0f);
+  // Progress matrix, learning curve and the attempts at its module side by side, the
+  // drill-down below at full width.
+  if (ImGui::BeginTable("top", 3, ImGuiTableFlags_SizingStretchProp)) {
+    ImGui::TableSetupColumn("matrix", ImGuiTableColumnFlags_WidthStretch, 1.45f);
+    ImGui::TableSetupColumn("curve", ImGuiTableColumnFlags_WidthStretch, 0.8f);
+    ImGui::TableSetupColumn("attempts", ImGuiTableColumnFlags_WidthStretch, 1.0f);
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
     draw_progress_matrix(model, sel, actions);
     ImGui::TableNextColumn();
-    if (const DashboardTrainee* t = model.find_trainee(sel.trainee_id))
+    const DashboardTrainee* t = model.find_trainee(sel.trainee_id);
+    if (t) {
       draw_learning_curve(model, *t, sel, actions);
-    else
-      ImGui::TextColored(ui_colors::kMuted, "Select a trainee for the learning curve.");
+    } else {
+      ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
+      ImGui::TextWrapped("Select a trainee for the learning curve.");
+      ImGui::PopStyleColor();
+    }
+    ImGui::TableNextColumn();
+    if (t) draw_attempt_list(model, *t, sel, actions);
     ImGui::EndTable();
   }
   if (attempt && attempt->record.id == sel.attempt_id) draw_attempt(*attempt, sel);

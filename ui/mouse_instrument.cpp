@@ -26,11 +26,18 @@ void MouseInstrumentDevice::request_end() {
   end_ = true;
 }
 
+void MouseInstrumentDevice::count_time_by(std::function<double()> clock) {
+  std::lock_guard lock(mutex_);
+  clock_ = std::move(clock);
+  last_t_s_ = -1.0;  // the next sample starts counting on the new clock
+}
+
 bool MouseInstrumentDevice::sample(double t_s, DeviceSample& out) {
   std::lock_guard lock(mutex_);
   // Toward the goal, at most the speeds allow since the last sample.
-  const double dt = last_t_s_ < 0 ? 0.0 : std::max(0.0, t_s - last_t_s_);
-  last_t_s_ = t_s;
+  const double now = clock_ ? clock_() : t_s;
+  const double dt = last_t_s_ < 0 ? 0.0 : std::max(0.0, now - last_t_s_);
+  last_t_s_ = now;
   const Vec3 to_goal = goal_.position - pose_.position;
   const double reach = speeds_.max_speed_m_s * dt;
   const double distance = to_goal.norm();

@@ -2,7 +2,9 @@
 // The window's thread turns pointer drags, the wheel and held keys into the pose the grip is
 // to reach (apply_mouse_input); the haptic thread's device (MouseInstrumentDevice) moves the
 // grip toward it at a bounded speed, so a fast flick, or a slow window that sees a whole drag
-// in one frame, moves the instrument smoothly and loses nothing. The mapping (docs/trainee-view.md), shown on screen by the HUD:
+// in one frame, moves the instrument smoothly and loses nothing. The speeds count simulated
+// seconds when the view gives the device the attempt's clock (count_time_by), so a scoop is
+// the same scoop on a machine that runs the simulation in slow motion. The mapping (docs/trainee-view.md), shown on screen by the HUD:
 //   left-drag          move the instrument in the horizontal plane, relative to the view
 //                      (drag right: to the screen's right; drag up: away from the viewer)
 //   wheel              depth: forward (away from you) pushes the instrument in (down),
@@ -14,10 +16,12 @@
 //   Q / E, A / D       tilt, roll (as Ctrl + left-drag)
 //   Space              hold still (ignore the mouse while held)
 // "Depth" is the world's vertical: every bundled module has the surgeon above the work,
-// looking down into it. The grip follows at most 20 mm/s and 2 rad/s (a drag cannot teleport
-// the instrument; the device guard would reject a jump anyway).
+// looking down into it. The grip follows at most 20 mm/s and 2 rad/s (of simulated time when
+// the view gives it the attempt's clock; a drag cannot teleport the instrument, and the device
+// guard would reject a jump anyway).
 #pragma once
 
+#include <functional>
 #include <mutex>
 
 #include "engine/devices/input_device.hpp"
@@ -45,6 +49,11 @@ class MouseInstrumentDevice final : public InputDevice {
   Pose current() const;
   /// Window thread: the trainee has finished (the attempt ends at the next step).
   void request_end();
+  /// The clock the speeds are counted in (seconds): the simulation's, so that the grip moves
+  /// 20 mm per simulated second however slowly the machine steps it (at 0.25x real time a
+  /// clock on the wall would let it cover 80 mm per simulated second, and the scoop would
+  /// be a different, faster one). Empty: the time each sample is given (the device loop's).
+  void count_time_by(std::function<double()> clock);
 
   bool sample(double t_s, DeviceSample& out) override;
   bool live() const override { return true; }
@@ -54,6 +63,7 @@ class MouseInstrumentDevice final : public InputDevice {
   Pose goal_;
   Pose pose_;
   Speeds speeds_;
+  std::function<double()> clock_;
   double last_t_s_ = -1.0;
   bool end_ = false;
 };

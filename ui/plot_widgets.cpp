@@ -41,9 +41,12 @@ void draw_legend(std::span<const LegendItem> items, bool same_line_as_previous) 
   bool first = !same_line_as_previous;
   for (const LegendItem& item : items) {
     const float need = chip + inner + ImGui::CalcTextSize(item.label.c_str()).x;
+    // Beside the previous item when there is room, else on a new line (decided before moving:
+    // a SameLine then NewLine would leave the line's end past the pane as content).
     if (!first) {
-      ImGui::SameLine(0, gap);
-      if (ImGui::GetContentRegionAvail().x < need) ImGui::NewLine();
+      const float room = ImGui::GetWindowPos().x + ImGui::GetContentRegionMax().x -
+                         ImGui::GetItemRectMax().x - gap;
+      if (room >= need) ImGui::SameLine(0, gap);
     }
     first = false;
     ImGui::ColorButton(item.label.c_str(), ImGui::ColorConvertU32ToFloat4(item.color),

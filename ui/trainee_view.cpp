@@ -280,6 +280,8 @@ InputDevice& TraineeView::device() { return *window_->device; }
 
 void TraineeView::watch(LiveAttempt& live) {
   Window& w = *window_;
+  // The mouse's grip moves by the attempt's simulated seconds (the same scoop in slow motion).
+  if (w.mouse) w.mouse->count_time_by([&live] { return live.simulated_time_s(); });
   if (options_.stress_view && live.bone_worker()) {
     w.stress_view = true;
     live.bone_worker()->set_field_wanted(true);
@@ -332,6 +334,7 @@ void TraineeView::watch(LiveAttempt& live) {
     }
     if (finished) {
       w.window->swap_buffers();
+      if (w.mouse) w.mouse->count_time_by({});  // `live` may go before the device
       return;
     }
     w.end_frame();

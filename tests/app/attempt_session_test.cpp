@@ -86,6 +86,10 @@ TEST(AttemptSession, AHeadlessReplayIsStoredWithItsRecording) {
   EXPECT_EQ(a.status, AttemptStatus::kCompleted);
   EXPECT_EQ(a.input_device, o.input);
   EXPECT_EQ(a.module_id, "no-nucleus-box");
+  // The replay's own real-time factor, the figure `acdr run --json` prints.
+  ASSERT_GT(r.run.wall_s, 0.0);
+  ASSERT_TRUE(a.realtime_factor.has_value());
+  EXPECT_DOUBLE_EQ(*a.realtime_factor, r.world->time_s() / r.run.wall_s);
   ASSERT_TRUE(a.recording);
   EXPECT_EQ(a.metrics.values, r.run.metrics.values);
   // The recording file is the stored recording.

@@ -131,6 +131,7 @@ TEST(LiveAttempt, ALiveDeviceGetsItsOwnLoopAndEndsThePhysicsWithIt) {
   EXPECT_NE(hand.thread(), std::this_thread::get_id());
   EXPECT_GT(physics.ticks, 0);
   EXPECT_EQ(physics.ticks, world.step_count());
+  EXPECT_EQ(live.simulated_time_s(), world.time_s());  // the clock the mouse counts by
   for (const Vec3& f : hand.forces()) {
     EXPECT_TRUE(f.allFinite());
     EXPECT_LE(f.norm(), scenario->world.device.max_force_N);

@@ -109,6 +109,7 @@ inline AttemptOutcome make_outcome(double score, bool passed) {
   if (!passed) o.score.reasons = {"score below the pass line"};
   o.events = {EventRecord{1.25, "zone_warning", "foramen_left", 0.8, ""}};
   o.duration_s = 12.345;
+  o.realtime_factor = 0.85;
   return o;
 }
 

@@ -7,6 +7,7 @@
 #include <sqlite3.h>
 #include <stdlib.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <chrono>
 #include <cmath>
@@ -47,6 +48,7 @@ AttemptOutcome awkward_outcome() {
   for (int i = 0; i < 100000; ++i) r.bytes.push_back(static_cast<std::uint8_t>(i * 7 % 251));
   o.recording = r;
   o.duration_s = 9.999;
+  o.realtime_factor = 0.3712;
   o.ended_utc = "2026-11-26T09:30:00.123Z";
   return o;
 }
@@ -88,6 +90,7 @@ void expect_same(const AttemptOutcome& a, const AttemptOutcome& b) {
     EXPECT_EQ(a.recording->bytes, b.recording->bytes);
   }
   EXPECT_EQ(bits(a.duration_s), bits(b.duration_s));
+  EXPECT_EQ(bits(a.realtime_factor), bits(b.realtime_factor));
   EXPECT_EQ(a.ended_utc, b.ended_utc);
 }
 
@@ -141,6 +144,36 @@ TEST(OutcomeSideFile, ADamagedOrTruncatedFileIsRefusedNamingIt) {
   ASSERT_FALSE(c.ok());
   EXPECT_NE(c.error().message.find("acdr-unsaved-attempt"), std::string::npos);
   EXPECT_FALSE(read_unsaved_outcome(dir.file("missing")).ok());
+}
+
+// A side file left by a program before the real-time factor was kept (format 1: no factor
+// after the duration) is still read; the factor is then unknown.
+TEST(OutcomeSideFile, AFormatOneFileWithoutTheRealTimeFactorIsStillRead) {
+  TempDir dir;
+  const std::string db = dir.file("record.sqlite");
+  const UnsavedOutcome u{5, "0b6d1d6e-1111-4222-8333-444455556666", awkward_outcome()};
+  DbResult<std::string> path = write_unsaved_outcome(db, u);
+  ASSERT_TRUE(path.ok()) << path.error().message;
+  std::string bytes = file_bytes(path.value());
+  // magic, version, attempt id, uuid, end time, duration, then the factor (8 bytes).
+  const std::size_t magic = std::strlen("acdr-unsaved-attempt\n");
+  const std::size_t factor_at =
+      magic + 4 + 8 + 4 + u.attempt_uuid.size() + 4 + u.outcome.ended_utc.size() + 8;
+  double stored = 0.0;
+  std::memcpy(&stored, bytes.data() + factor_at, 8);
+  ASSERT_EQ(stored, u.outcome.realtime_factor);  // the layout this test assumes
+  bytes.erase(factor_at, 8);
+  bytes[magic] = 1;  // format 1 (little-endian u32)
+  bytes.resize(bytes.size() - 4);
+  const std::uint32_t crc = static_cast<std::uint32_t>(crc32(
+      crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size())));
+  for (int i = 0; i < 4; ++i) bytes.push_back(static_cast<char>((crc >> (8 * i)) & 0xff));
+  std::ofstream(path.value(), std::ios::binary | std::ios::trunc) << bytes;
+  DbResult<UnsavedOutcome> back = read_unsaved_outcome(path.value());
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  AttemptOutcome expected = u.outcome;
+  expected.realtime_factor = AttemptOutcome{}.realtime_factor;  // unknown
+  expect_same(expected, back->outcome);
 }
 
 // Holds the write lock of `path` on a connection of its own (another program, as far as the
@@ -208,6 +241,7 @@ TEST(OutcomeSideFile, ALockedRecordKeepsTheOutcomeAndTheNextOpenStoresIt) {
   EXPECT_EQ(a.value()->status, AttemptStatus::kCompleted);
   EXPECT_EQ(a.value()->ended_utc, outcome.ended_utc);  // the attempt's end, not the replay's
   EXPECT_EQ(a.value()->duration_s, outcome.duration_s);
+  EXPECT_EQ(a.value()->realtime_factor, outcome.realtime_factor);
   EXPECT_EQ(a.value()->score, outcome.score.score);
   EXPECT_EQ(a.value()->passed, true);
   ASSERT_TRUE(a.value()->recording.has_value());

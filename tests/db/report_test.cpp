@@ -112,6 +112,8 @@ TEST_F(ReportTest, CsvHasAHeaderAndOneQuotedRowPerAttempt) {
   EXPECT_EQ(rows[5][col("status")], "aborted");
   EXPECT_EQ(rows[5][col("abort_reason")], "killed");
   EXPECT_EQ(rows[5][col("score")], "");
+  EXPECT_EQ(rows[1][col("realtime_factor")], "0.85");  // as the attempt ran
+  EXPECT_EQ(rows[5][col("realtime_factor")], "");      // an aborted attempt does not know it
 }
 
 TEST_F(ReportTest, JsonParsesBackWithAttemptsEventsAndProgress) {
@@ -130,6 +132,8 @@ TEST_F(ReportTest, JsonParsesBackWithAttemptsEventsAndProgress) {
   EXPECT_EQ(j["attempts"][1]["reasons"][0], "score below the pass line");
   EXPECT_EQ(j["attempts"][2]["status"], "aborted");
   EXPECT_TRUE(j["attempts"][2]["score"].is_null());
+  EXPECT_EQ(expert["realtime_factor"], 0.85);
+  EXPECT_TRUE(j["attempts"][2]["realtime_factor"].is_null());
 
   ASSERT_EQ(j["progress"].size(), 1u);
   EXPECT_EQ(j["progress"][0]["trainee"], "t1");
@@ -160,6 +164,8 @@ TEST_F(ReportTest, TableShowsAttemptsAndProgress) {
   EXPECT_NE(table.find("aborted"), std::string::npos);
   EXPECT_NE(table.find("Progress of trainee t1"), std::string::npos);
   EXPECT_NE(table.find("locked"), std::string::npos);
+  EXPECT_NE(table.find("real time"), std::string::npos) << table;
+  EXPECT_NE(table.find("0.85x"), std::string::npos) << table;  // the attempts' real-time factor
   // Aligned: every line of the attempts block has its "score" column at the same offset.
   std::istringstream lines(table);
   std::string line, header;

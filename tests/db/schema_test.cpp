@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include "db/attempt_store.hpp"
 #include "db/database.hpp"
 #include "tests/db/db_test_support.hpp"
 
@@ -109,6 +110,49 @@ TEST(Schema, MigratesAVersion1RecordKeepingItsEvents) {
   EXPECT_FALSE(db.exec("INSERT INTO events (attempt_id, seq, kind, zone) VALUES (1, 2, 'x', '')").ok());
   EXPECT_TRUE(db.exec("SELECT count(*) FROM recording_chunks").ok());
   EXPECT_TRUE(db.exec("SELECT count(*) FROM xapi_outbox").ok());  // v3, in the same opening
+}
+
+// A version 3 record (before the real-time factor was kept) opens with its attempts readable:
+// the factor of an old attempt is unknown (NULL), a new attempt stores its own, and the column
+// refuses a factor that cannot be one.
+TEST(Schema, MigratesAVersion3RecordAddingTheRealTimeFactor) {
+  test::TempDir dir;
+  const std::string path = dir.file("v3.sqlite");
+  {
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    std::string sql;
+    for (int v = 0; v < 3; ++v) sql += schema_migrations()[v].sql;
+    sql += "PRAGMA user_version = 3; PRAGMA application_id = " + std::to_string(kApplicationId) +
+           ";"
+           "INSERT INTO trainees (id, created_utc) VALUES ('t1', '2024-05-01T09:00:00.000Z');"
+           "INSERT INTO modules (id) VALUES ('m1');"
+           "INSERT INTO attempts (uuid, registration, trainee_id, module_id, status, "
+           "  started_utc, ended_utc, heartbeat_utc, duration_s, score, passed, writer_pid, "
+           "  writer_host) VALUES ('u1', 'r1', 't1', 'm1', 'completed', "
+           "  '2024-05-01T09:00:00.000Z', '2024-05-01T09:01:00.000Z', "
+           "  '2024-05-01T09:01:00.000Z', 60.0, 72.5, 1, 1, 'h');";
+    char* message = nullptr;
+    ASSERT_EQ(sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, &message), SQLITE_OK)
+        << (message ? message : "");
+    sqlite3_close(raw);
+  }
+  Database db = test::open_or_fail(path);
+  EXPECT_EQ(db.pragma_int("user_version").value(), kSchemaVersion);
+  DbResult<std::vector<AttemptRecord>> old = list_attempts(db, {});
+  ASSERT_TRUE(old.ok()) << old.error().message;
+  ASSERT_EQ(old->size(), 1u);
+  EXPECT_EQ(old->front().score, 72.5);
+  EXPECT_EQ(old->front().duration_s, 60.0);
+  EXPECT_FALSE(old->front().realtime_factor.has_value());
+
+  test::register_curriculum(db, 1);
+  const std::int64_t id = test::add_attempt(db, "t1", "m1", 60, true, test::minute(5));
+  DbResult<std::optional<AttemptRecord>> fresh = load_attempt(db, id);
+  ASSERT_TRUE(fresh.ok() && fresh.value());
+  EXPECT_EQ(fresh.value()->realtime_factor, test::make_outcome(60, true).realtime_factor);
+  EXPECT_FALSE(db.exec("UPDATE attempts SET realtime_factor = 0 WHERE id = 1").ok());
+  EXPECT_FALSE(db.exec("UPDATE attempts SET realtime_factor = -0.5 WHERE id = 1").ok());
 }
 
 }  // namespace

@@ -187,12 +187,15 @@ TEST_F(DashboardModelTest, CsvOfEachView) {
   lines = lines_of(dashboard_csv(*model, ben, nullptr));
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_NE(lines[0].find("peak_instrument_force_N"), std::string::npos);
+  EXPECT_NE(lines[0].find(",duration_s,realtime_factor,score,"), std::string::npos) << lines[0];
   EXPECT_NE(lines[2].find(",completed,"), std::string::npos);
   EXPECT_EQ(dashboard_csv_name(ben, nullptr), "dashboard-t-ben.csv");
   // An attempt's frames.
   std::string error;
   auto d = load_drill_down(db, model->find_trainee("t-ben")->attempts[0].id, &error);
   ASSERT_TRUE(d) << error;
+  ASSERT_TRUE(d->record.realtime_factor.has_value());  // the replay's own, measured
+  EXPECT_GT(*d->record.realtime_factor, 0.0);
   lines = lines_of(dashboard_csv(*model, ben, d.get()));
   EXPECT_EQ(lines.size(), d->recording->frames.size() + 1);
   EXPECT_EQ(lines[0].rfind("t_s,hand_force_N,", 0), 0u);

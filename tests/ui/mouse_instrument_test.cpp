@@ -112,5 +112,32 @@ TEST(MouseInstrument, DeviceFollowsTheGoalAtItsSpeedAndGivesTheEnd) {
   EXPECT_TRUE(s.end);
 }
 
+// Given the attempt's clock, the grip counts its speed in simulated seconds: in slow motion
+// (here a quarter of real time) it covers a quarter of the distance per second of the
+// device loop, the same distance per simulated second as in real time.
+TEST(MouseInstrument, SpeedsCountTheClockItIsGiven) {
+  Pose start;
+  start.position = Vec3(0, 0, 0.1);
+  MouseInstrumentDevice device(start);  // 20 mm/s
+  double simulated_s = 0.0;
+  device.count_time_by([&] { return simulated_s; });
+  Pose goal = start;
+  goal.position.x() = 0.01;
+  device.set_pose(goal);
+  DeviceSample s;
+  ASSERT_TRUE(device.sample(0.0, s));
+  for (int tick = 1; tick <= 100; ++tick) {  // 100 ms of the device loop, 25 ms simulated
+    simulated_s = 0.25e-3 * tick;
+    ASSERT_TRUE(device.sample(1e-3 * tick, s));
+  }
+  EXPECT_NEAR(s.pose.position.x(), 0.5e-3, 1e-9);  // 25 ms at 20 mm/s
+  EXPECT_DOUBLE_EQ(s.t_s, 0.1);                    // the sample keeps the loop's own time
+  // Without the clock the loop's time counts again, from the next sample on.
+  device.count_time_by({});
+  ASSERT_TRUE(device.sample(0.2, s));
+  ASSERT_TRUE(device.sample(0.21, s));
+  EXPECT_NEAR(s.pose.position.x(), 0.7e-3, 1e-9);
+}
+
 }  // namespace
 }  // namespace acdr

@@ -7,10 +7,14 @@
 //    nested in a column must fit the column, and is checked column by column itself);
 //  - a window that lies partly outside the display;
 //  - a glyph drawn straight to a draw list (plot labels, legends) that lies partly outside its
-//    clip rectangle or the display.
+//    clip rectangle or the display (except a line half scrolled out of a pane that scrolls).
 // Empty: nothing is cut off.
+// hidden_panes below checks, for named panes (child windows), that each was drawn and shows
+// whole: on the display and inside what its parents show (not below the fold of a scrolled
+// pane).
 #pragma once
 
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -118,12 +122,56 @@ inline std::vector<std::string> text_overflows(const ImVec2& display, float tole
                             box.Min.y >= area.Min.y - tolerance &&
                             box.Max.y <= area.Max.y + tolerance;
         if (inside || !box.Overlaps(area)) continue;
+        // A line half scrolled out of a pane with a vertical scrollbar is not cut: the
+        // scrollbar brings it in.
+        if (w->ScrollbarY && box.Min.x >= area.Min.x - tolerance &&
+            box.Max.x <= area.Max.x + tolerance)
+          continue;
         out.push_back("window '" + std::string(w->Name) + "': a glyph at " + px(box.Min.x) + "," +
                       px(box.Min.y) + " is cut at its clip rectangle " + px(area.Min.x) + "," +
                       px(area.Min.y) + " to " + px(area.Max.x) + "," + px(area.Max.y));
         break;
       }
     }
+  }
+  return out;
+}
+
+/// Each pane named (the name given to ImGui::BeginChild) drawn this frame and wholly visible:
+/// inside the display and inside the visible inner area of every window that holds it. Lists
+/// what is not: a pane missing, or where it reaches past the display or a parent's edge.
+inline std::vector<std::string> hidden_panes(const ImVec2& display,
+                                             std::initializer_list<const char*> names,
+                                             float tolerance = 1.0f) {
+  std::vector<std::string> out;
+  ImGuiContext& g = *GImGui;
+  auto px = [](float v) { return std::to_string(static_cast<int>(v + 0.5f)); };
+  auto inside = [&](const ImRect& r, const ImRect& area) {
+    return r.Min.x >= area.Min.x - tolerance && r.Min.y >= area.Min.y - tolerance &&
+           r.Max.x <= area.Max.x + tolerance && r.Max.y <= area.Max.y + tolerance;
+  };
+  for (const char* name : names) {
+    // A child window is named "<parent>/<name>_<id in hex>".
+    const std::string key = "/" + std::string(name) + "_";
+    ImGuiWindow* pane = nullptr;
+    for (ImGuiWindow* w : g.Windows)
+      if ((w->Flags & ImGuiWindowFlags_ChildWindow) && w->LastFrameActive == g.FrameCount &&
+          !w->Hidden && std::string(w->Name).find(key) != std::string::npos)
+        pane = w;
+    if (!pane) {
+      out.push_back("pane '" + std::string(name) + "' is not drawn");
+      continue;
+    }
+    const ImRect r = pane->Rect();
+    const std::string where = px(r.Min.x) + "," + px(r.Min.y) + " to " + px(r.Max.x) + "," +
+                              px(r.Max.y);
+    if (!inside(r, ImRect(ImVec2(0, 0), display)))
+      out.push_back("pane '" + std::string(name) + "' at " + where + " reaches outside the display");
+    for (ImGuiWindow* p = pane->ParentWindow; p; p = p->ParentWindow)
+      if (!inside(r, p->InnerClipRect))
+        out.push_back("pane '" + std::string(name) + "' at " + where + " is not all shown by '" +
+                      p->Name + "' (" + px(p->InnerClipRect.Min.y) + " to " +
+                      px(p->InnerClipRect.Max.y) + " high)");
   }
   return out;
 }
