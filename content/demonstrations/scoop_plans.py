@@ -13,12 +13,16 @@ the danger zones and the annulus allow (`Placement`):
 - lateral: no further out than the nucleus's edge at the cup's depth plus `LATERAL_REACH_MM`
   (the cup's wall then bears on the inner annulus, which holds; the vertebral arteries'
   3 mm warning band is more than 5 mm further out);
+- the posterior annulus: the cup's outer surface `POSTERIOR_CLEARANCE_MM` short of it (it has
+  only the canal behind it and 0.35 mm to the removal region's back: gel driven into it bulges
+  it out), the sweep following its curve, and a plunge deeper than the nucleus's centre eased
+  from there (`EASE_S` times the pace);
 - plunge: through the anterior annulotomy window, the cup 0.1 mm inside its edges;
 - height: as written, within the endplates' 0.3 mm warning bands for the 1.9 mm outer radius of
   the modules' cup (|y| <= 0.75 mm on a 5.9 mm disc);
 - the specimen tray: the wipe on the module's tray (world.box) with the curette's own pitch
-  (80 deg for the angled 135-degree cup, 65 deg for a straight cup), the lip pressed 0.7 mm
-  into the floor and dragged 10 mm, so what sticks to the cup is left on the tray (a 3 mm drag
+  (80 deg for the angled 135-degree cup, 65 deg for a straight cup), the lip pressed about
+  0.35 mm deeper into the floor than the earlier wipe and dragged 10 mm instead of 3, so what sticks to the cup is left on the tray (a 3 mm drag
   left 14 of 31 particles on the cup, this one 9; measured on module 02's front scoop);
 - time: each scoop is the same moves (in the disc: 1.0, 1.2, 1.5, 1.2, 0.6 s; the wipe: 1.2,
   0.8, 0.8, 1.6, 0.6, 0.8 s) times the plan's pace.
