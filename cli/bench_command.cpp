@@ -25,9 +25,10 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
   if (options.scenes.empty()) {
     // The standard scoops: the box demo's blade meets the material at ~1.0 s (force peaks at
     // ~1.25 s, then the blade sweeps through at 10 mm/s); the expert's cup plunges into the
-    // C4-C5 nucleus until 1.65 s and sweeps through it from 1.65 to 2.8 s
-    // (content/demonstrations/02_c4c5_healthy/expert_1.cup.csv); its window starts at 1.5 s, the phase at
-    // which the 1.8 s start caught the slower session-5 expert (docs/performance.md).
+    // front of the C4-C5 nucleus until 1.43 s and sweeps through it from 1.43 to 2.41 s
+    // (content/demonstrations/02_c4c5_healthy/expert_1.cup.csv, the plan for the disc at its
+    // real size; the earlier expert swept from 1.65 to 2.8 s); its window starts at 1.5 s, in the
+    // sweep (docs/performance.md).
     config.scenes.push_back({"box", "scenarios/modules/01_box_warmup.json",
                              "content/demonstrations/01_box_warmup/expert_1.csv", 1.0});
     config.scenes.push_back({"c4c5", "scenarios/modules/02_c4c5_healthy.json",

@@ -1,29 +1,34 @@
 #!/usr/bin/env python3
 """Cup-centre plans of the bundled C4-C5 demonstrations, placed on a module's own disc.
 
-Each demonstration is a plan: a list of scoops (and, for the novices, their mistakes) written
-once on a *reference disc* -- the one the bundled modules had when these plans were drawn
-(`REFERENCE` below) -- and mapped onto the disc of the module file it is generated for:
+Each demonstration is a plan: a list of scoops (and, for the novices, their mistakes). A scoop
+is written in *nucleus units* -- lateral u and depth v as fractions of the module's nucleus
+semi-axes about its centre (x = cx + u a, z = cz + v b), the height y in millimetres between
+the endplates -- so it lands on the module's own disc, and the cup centre is then kept where
+the danger zones and the annulus allow (`Placement`):
 
-- lateral (x): scaled so the widest reference sweep (cup centre 3.6 mm from the middle) ends
-  where the cup's outer edge meets the module's lateral annulus (annulus x semi-axis minus the
-  cup's outer radius), about the nucleus centre;
-- depth (z, anterior +): scaled so the deepest reference scoop (cup centre 3.3 mm behind the
-  nucleus centre, its back 0.2 mm past the posterior annulus's inner... edge of the block) keeps
-  the same place against the module's posterior annulus: (annulus z semi-axis - cup radius +
-  0.2 mm) behind the nucleus centre; above the disc, heights are kept from the disc's front;
-- height (y, cranial +): scaled so the cup keeps the same share of the clearance it has between
-  the endplates' warning bands (half the disc height - cup radius - 0.3 mm);
-- the specimen tray: the wipe keeps its place on the module's tray (world.box) and its depth
-  into the tray floor (the curette's own pitch and press: 80 deg, 1.06 mm above the floor for
-  the angled 135-degree cup; 65 deg, 0.30 mm for a straight cup);
-- time: each scoop is the same eleven moves (blocks of 1.0, 1.2, 1.5, 1.2, 0.6, 1.2, 0.8, 0.8,
-  1.2, 0.6, 0.8 s) times the plan's pace.
+- depth: never deeper than the spinal cord / PLL zone's warning band plus the cup's outer radius
+  and a margin (`CORD_MARGIN_MM`): the zone's front face is the posterior wall of the bodies
+  (half the body depth behind the centre), its warning band 1.5 mm in front of it;
+- lateral: no further out than the nucleus's edge at the cup's depth plus `LATERAL_REACH_MM`
+  (the cup's wall then bears on the inner annulus, which holds; the vertebral arteries'
+  3 mm warning band is more than 5 mm further out);
+- the posterior annulus: the cup's outer surface `POSTERIOR_CLEARANCE_MM` short of it (it has
+  only the canal behind it and 0.35 mm to the removal region's back: gel driven into it bulges
+  it out), the sweep following its curve, and a plunge deeper than the nucleus's centre eased
+  from there (`EASE_S` times the pace);
+- plunge: through the anterior annulotomy window, the cup 0.1 mm inside its edges;
+- height: as written, within the endplates' 0.3 mm warning bands for the 1.9 mm outer radius of
+  the modules' cup (|y| <= 0.75 mm on a 5.9 mm disc);
+- the specimen tray: the wipe on the module's tray (world.box) with the curette's own pitch
+  (80 deg for the angled 135-degree cup, 65 deg for a straight cup), the lip pressed about
+  0.35 mm deeper into the floor than the earlier wipe and dragged 10 mm instead of 3, so what sticks to the cup is left on the tray (a 3 mm drag
+  left 14 of 31 particles on the cup, this one 9; measured on module 02's front scoop);
+- time: each scoop is the same moves (in the disc: 1.0, 1.2, 1.5, 1.2, 0.6 s; the wipe: 1.2,
+  0.8, 0.8, 1.6, 0.6, 0.8 s) times the plan's pace.
 
 So when the disc, the window or the curette of a module changes, running scripts/demonstrations
-places every pass again on the new anatomy. On the reference disc the mapping is the identity,
-and the plans reproduce the cup rows they were drawn with (expert_1 of each module is the
-earlier c4c5_expert / c4c5_expert_straight / c4c5_expert_timed, byte for byte).
+places every pass again on the new anatomy.
 
     python3 scoop_plans.py ../../scenarios/modules/02_c4c5_healthy.json --list
     python3 scoop_plans.py ../../scenarios/modules/02_c4c5_healthy.json expert_2 > expert_2.cup.csv
@@ -32,23 +37,21 @@ earlier c4c5_expert / c4c5_expert_straight / c4c5_expert_timed, byte for byte).
 """
 import argparse
 import json
+import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import c4c5_waypoints  # noqa: E402
 
-# The disc the plans were drawn on (scenarios/modules/02_c4c5_healthy.json before the disc was
-# resized): nucleus elliptic cylinder centred at z -0.5 mm, semi-axes 3.5 (x) x 3.0 (z); annulus
-# 5.5 x 5.0; disc height 5.9 mm; the 3 mm cup with a 0.4 mm wall; the tray floor at z 6 mm,
-# tray centre y -31 mm, far edge y -20 mm.
-REFERENCE = {
-    "nucleus_cx": 0.0, "nucleus_cz": -0.5, "annulus_a": 5.5, "annulus_b": 5.0,
-    "disc_height": 5.9, "cup_r": 1.9, "tray_cx": 0.0, "tray_cy": -31.0, "tray_far_y": -20.0,
-    "tray_floor": 6.0,
-}
 ENDPLATE_WARNING_MM = 0.3   # engine/anatomy/danger_zone.hpp: endplate_warning_m
-BLOCKS_S = (1.0, 1.2, 1.5, 1.2, 0.6, 1.2, 0.8, 0.8, 1.2, 0.6, 0.8)
+CORD_WARNING_MM = 1.5       # engine/anatomy/danger_zone.hpp: cord_warning_m
+CORD_MARGIN_MM = 0.6        # kept between the cup and the cord zone's warning band
+LATERAL_REACH_MM = 0.15     # how far the cup centre may pass the nucleus's edge
+POSTERIOR_CLEARANCE_MM = 0.8  # kept between the cup and the posterior annulus
+SCOOP_S = (1.0, 1.2, 1.5, 1.2, 0.6)
+WIPE_S = (1.2, 0.8, 0.8, 1.6, 0.6, 0.8)
+EASE_S = 1.2                # the last of a deep plunge, eased
 
 
 def module_geometry(module):
@@ -57,21 +60,22 @@ def module_geometry(module):
     blocks = world["nucleus"]["blocks"]
     materials = {m["name"]: m for m in world["nucleus"]["materials"]}
     target = [b for b in blocks if materials[b["material"]].get("counts_as_target")]
-    ring = [b for b in blocks if "hole_semi_axes_mm" in b]
-    if not target or not ring:
-        raise ValueError("world.nucleus.blocks: expected a target (nucleus) block and an annulus "
-                         "block with hole_semi_axes_mm")
-    nucleus, annulus = target[0], ring[0]
-    for b in (nucleus, annulus):
-        if b.get("shape") != "elliptic_cylinder" or b.get("axis") != "y":
-            raise ValueError("world.nucleus.blocks: expected elliptic cylinders along y (got %s "
-                             "along %s)" % (b.get("shape"), b.get("axis")))
+    if not target:
+        raise ValueError("world.nucleus.blocks: expected a target (nucleus) block")
+    nucleus = target[0]
+    if nucleus.get("shape") != "elliptic_cylinder" or nucleus.get("axis") != "y":
+        raise ValueError("world.nucleus.blocks: expected an elliptic cylinder along y for the "
+                         "nucleus (got %s along %s)" % (nucleus.get("shape"), nucleus.get("axis")))
+    ring = [b for b in blocks if "cutout_min_mm" in b]
+    window = (0.5 * (ring[0]["cutout_max_mm"][0] - ring[0]["cutout_min_mm"][0]) if ring
+              else nucleus["semi_axes_mm"][0])
     inst = world["instrument"]
     box = world["box"]
     morph = world.get("anatomy", {}).get("morphometry", {})
     return {
         "nucleus_cx": nucleus["center_mm"][0], "nucleus_cz": nucleus["center_mm"][2],
-        "annulus_a": annulus["semi_axes_mm"][0], "annulus_b": annulus["semi_axes_mm"][1],
+        "nucleus_a": nucleus["semi_axes_mm"][0], "nucleus_b": nucleus["semi_axes_mm"][1],
+        "window_half": window,  # half the width of the anterior annulotomy window
         "disc_height": morph.get("disc_height_mm", 5.9),
         "cup_r": 0.5 * inst["cup_diameter_mm"] + inst["cup_wall_mm"],
         "tray_cx": 0.5 * (box["inner_min_mm"][0] + box["inner_max_mm"][0]),
@@ -81,9 +85,13 @@ def module_geometry(module):
         "grip_mm": c4c5_waypoints.cup_to_grip(inst["shaft_length_mm"], inst["cup_diameter_mm"],
                                               inst["cup_wall_mm"]),
         "time_limit_s": module.get("time_limit_s", 0),
-        # The left vertebral artery's axis (engine/anatomy/vertebra_generator.cpp: the
-        # foramen transversarium lies uncinate_to_foramen beyond the medial uncinate margin,
-        # foramen_anterior_offset ahead of the posterior body wall); defaults of docs/anatomy.md.
+        # The posterior wall of the bodies (engine/anatomy/vertebra_generator.cpp: half the body
+        # depth behind the centre), the front face of the spinal cord / PLL zone.
+        "body_back_z": -0.5 * morph.get("body_depth_mm", 16.1),
+        "body_front_z": 0.5 * morph.get("body_depth_mm", 16.1),
+        # The left vertebral artery's axis (the foramen transversarium lies uncinate_to_foramen
+        # beyond the medial uncinate margin, foramen_anterior_offset ahead of the posterior body
+        # wall); defaults of docs/anatomy.md.
         "artery_x": 0.5 * morph.get("endplate_width_mm", 16.1) + morph.get("uncinate_to_foramen_mm", 5.0)
                     + 0.5 * morph.get("foramen_transversarium_diameter_mm", 5.5),
         "artery_z": -0.5 * morph.get("body_depth_mm", 16.1) + morph.get("foramen_anterior_offset_mm", 3.0),
@@ -91,82 +99,87 @@ def module_geometry(module):
 
 
 class Placement:
-    """Maps reference-disc millimetres onto a module's disc (see the module docstring)."""
+    """Puts nucleus units and landmarks into the module's millimetres (module docstring)."""
 
     def __init__(self, g):
-        r = REFERENCE
         self.g = g
-        self.sx = (g["annulus_a"] - g["cup_r"]) / (r["annulus_a"] - r["cup_r"])
-        self.sz = (g["annulus_b"] - g["cup_r"] + 0.2) / (r["annulus_b"] - r["cup_r"] + 0.2)
-        clear = 0.5 * g["disc_height"] - g["cup_r"] - ENDPLATE_WARNING_MM
-        clear_ref = 0.5 * r["disc_height"] - r["cup_r"] - ENDPLATE_WARNING_MM
-        self.sy = clear / clear_ref
-        self.front = g["nucleus_cz"] + g["annulus_b"]
-        self.front_ref = r["nucleus_cz"] + r["annulus_b"]
+        self.z_min = g["body_back_z"] + CORD_WARNING_MM + g["cup_r"] + CORD_MARGIN_MM
+        self.y_max = 0.5 * g["disc_height"] - ENDPLATE_WARNING_MM - g["cup_r"] - 0.15
+        self.window = g["window_half"] - g["cup_r"] - 0.1
+        self.ease_from = g["nucleus_cz"]
 
-    def x(self, v):  # lateral, in the disc
-        return self.g["nucleus_cx"] + (v - REFERENCE["nucleus_cx"]) * self.sx
+    def floor(self, x):
+        """The deepest cup centre at lateral x: the cup's outer surface `POSTERIOR_CLEARANCE_MM`
+        short of the posterior annulus (a deeper plunge pushes the gel against it and bulges
+        it 0.35 mm backward, out of the removal region, toward the canal), and out of the
+        cord zone's warning band."""
+        g = self.g
+        s = (x - g["nucleus_cx"]) / g["nucleus_a"]
+        edge = g["nucleus_cz"] - g["nucleus_b"] * math.sqrt(max(0.0, 1.0 - s * s))
+        return max(edge + g["cup_r"] + POSTERIOR_CLEARANCE_MM, self.z_min)
 
-    def y(self, v):  # height between the endplates
-        return v * self.sy
+    def depth(self, v):  # v: fraction of the nucleus's depth semi-axis, + anterior
+        g = self.g
+        return max(g["nucleus_cz"] + v * g["nucleus_b"], self.z_min)
 
-    def z(self, v):  # depth in the disc
-        return self.g["nucleus_cz"] + (v - REFERENCE["nucleus_cz"]) * self.sz
+    def reach(self, z):  # the farthest lateral cup centre at depth z
+        g = self.g
+        s = (z - g["nucleus_cz"]) / g["nucleus_b"]
+        return g["nucleus_a"] * math.sqrt(max(0.0, 1.0 - s * s)) + LATERAL_REACH_MM
 
-    def above(self, v):  # a height above the disc's front
-        return self.front + (v - self.front_ref)
+    def lateral(self, u, z):
+        g = self.g
+        r = self.reach(z)
+        return g["nucleus_cx"] + max(-r, min(r, u * g["nucleus_a"]))
+
+    def height(self, y):
+        return max(-self.y_max, min(self.y_max, y))
+
+    def above(self, h):  # h mm above the front of the bodies
+        return self.g["body_front_z"] + h
 
     def artery(self, x, y, z):  # millimetres from the left artery's axis (x, z)
-        return (self.g["artery_x"] + x, self.y(y), self.g["artery_z"] + z)
+        return (self.g["artery_x"] + x, y, self.g["artery_z"] + z)
 
-    def tray(self, x, y, z):
-        r, g = REFERENCE, self.g
-        ty = g["tray_far_y"] if y == r["tray_far_y"] else g["tray_cy"] + (y - r["tray_cy"])
-        return (g["tray_cx"] + (x - r["tray_cx"]), ty, g["tray_floor"] + (z - r["tray_floor"]))
-
-
-# --- the moves, in reference millimetres -------------------------------------------------------
-# A scoop: (comment, x_start, x_end, y, z): plunge through the window at x_start to depth z,
-# sweep to x_end (the cup opens toward the sweep: yaw 0 toward +x, 180 toward -x), withdraw
-# straight, wipe on the tray.
-def S(what, x0, x1, y, z):
-    return ("scoop", what, x0, x1, y, z)
+    def tray(self, x, dy, dz):  # x from the tray's centre line, dy from its centre, dz above its floor
+        g = self.g
+        return (g["tray_cx"] + x, g["tray_cy"] + dy, g["tray_floor"] + dz)
 
 
-FRONT = S("front of the nucleus", -2.5, 2.0, 0.0, 1.0)
-MID_UP = S("middle, upper half", -2.5, 2.0, 0.6, -1.0)
-MID_LOW = S("middle, lower half", -2.5, 2.0, -0.45, -1.0)
-BACK = S("back of the nucleus", -2.5, 2.0, 0.0, -2.6)
-RIGHT_MID = S("right side, middle", 0.5, 3.5, 0.0, -1.0)
-RIGHT_BACK = S("right side, back", 0.0, 3.2, 0.0, -3.0)
-LEFT_MID = S("left side, middle", -0.5, -3.5, 0.0, -1.5)
-VBACK_UP = S("the very back, upper half", -2.0, 2.0, 0.2, -3.8)
-VBACK_LOW = S("the very back, lower half, the other way", 2.0, -2.0, -0.2, -3.8)
-RIGHT_BACK_LOW = S("right side, back, lower half", 0.0, 3.2, -0.2, -3.5)
-RIGHT_MID_DEEP = S("right side, middle depth", 0.5, 3.6, 0.0, -2.0)
-LEFT_BACK = S("left side, back", 0.0, -3.2, 0.0, -3.0)
-MID_UP_AGAIN = S("middle, upper half again", -2.5, 2.0, 0.3, -1.5)
-MID_LOW_AGAIN = S("middle, lower half again, the other way", 2.5, -2.0, -0.45, -1.5)
-LEFT_MID_DEEP = S("left side, middle depth", -0.5, -3.6, 0.0, -2.0)
-LEFT_BACK_LOW = S("left side, back, lower half", 0.0, -3.2, -0.2, -3.5)
-FRONT_OTHER = S("front, the other way", 2.5, -2.0, 0.0, 1.0)
-# The straight curette's plan (module 03), drawn with the cup 3.5 mm from the posterior margin.
-ST_OTHER_MID = S("the other way (opening -x), what is left in the middle", 2.5, -2.0, 0.0, 0.0)
-ST_OTHER_BACK = S("the other way, what is left at the back", 2.5, -2.0, 0.0, -2.6)
-ST_FRONT_UP = S("second pass: front, upper half", -2.5, 2.0, 0.3, 0.0)
-ST_BACK_LOW_OTHER = S("second pass: back, lower half, the other way", 2.5, -2.0, -0.22, -2.0)
-ST_BACK_LOW = S("second pass: back, lower half", -2.5, 2.0, -0.22, -1.8)
-ST_MID_UP_OTHER = S("second pass: middle, upper half, the other way", 2.5, -2.0, 0.6, -1.5)
-ST_BACK_AGAIN = S("second pass: the back again", -2.5, 2.0, 0.0, -2.6)
-ST_FRONT_LOW_OTHER = S("second pass: front, lower half, the other way", 2.5, -2.0, -0.22, 0.5)
-ST_MID_UP_AGAIN = S("middle, upper half again", -2.5, 2.0, 0.5, -1.5)
-ST_MID_LOW_AGAIN = S("middle, lower half again, the other way", 2.5, -2.0, -0.45, -1.5)
+# --- the moves -----------------------------------------------------------------------------------
+# A scoop: (comment, u_start, u_end, y, v): plunge through the window at u_start to depth v,
+# sweep to u_end (the cup opens toward the sweep: yaw 0 toward +x, 180 toward -x), withdraw
+# straight, wipe on the tray. +x is the patient's left.
+def S(what, u0, u1, y, v):
+    return ("scoop", what, u0, u1, y, v)
 
-# Mistakes (rows of their own, reference millimetres; see each novice's description).
+
+# The front band (v 0.55, rows 2-4 mm in front of the centre), the middle (v 0), the back
+# (v -0.45: deeper, the cup would press the posterior annulus, see Placement.floor), the sides.
+F1 = S("front, from the right", -0.55, 0.1, 0.0, 0.55)
+F2 = S("front, from the left", 0.55, -0.1, 0.0, 0.55)
+F_UP = S("front, upper half", -0.55, 0.4, 0.5, 0.5)
+F_LOW = S("front, lower half, from the left", 0.55, -0.4, -0.45, 0.5)
+M1 = S("middle, upper half, to the left", 0.0, 0.65, 0.55, 0.0)
+M2 = S("middle, lower half, to the right", 0.0, -0.65, -0.45, 0.0)
+M3 = S("middle, lower half, to the left", 0.0, 0.65, -0.45, 0.0)
+M4 = S("middle, upper half, to the right", 0.0, -0.65, 0.55, 0.0)
+L1 = S("left side (+x), middle", 0.45, 0.97, 0.0, -0.05)
+L2 = S("right side (-x), middle", -0.45, -0.97, 0.0, -0.05)
+LF1 = S("left side, front", 0.3, 0.9, 0.0, 0.3)
+LF2 = S("right side, front", -0.3, -0.9, 0.0, 0.3)
+LB1 = S("left side, back", 0.3, 0.85, 0.0, -0.3)
+LB2 = S("right side, back", -0.3, -0.85, 0.0, -0.3)
+B1 = S("back, upper half, to the left", 0.0, 0.6, 0.4, -0.45)
+B2 = S("back, lower half, to the right", 0.0, -0.6, -0.4, -0.45)
+B3 = S("back, lower half, to the left", 0.0, 0.6, -0.4, -0.45)
+B4 = S("back, upper half, to the right", 0.0, -0.6, 0.4, -0.45)
+
+
+# Mistakes (rows of their own in module millimetres; see each novice's description).
 def DRIFT():
     # Wanders out of the disc and down beside the uncinate process toward the left vertebral
-    # artery: (x, z) of these rows are millimetres from the artery's axis (Placement.artery),
-    # not from the disc.
+    # artery: (x, z) of these rows are millimetres from the artery's axis (Placement.artery).
     return ("artery_rows", "lateral drift toward the left vertebral artery", [
         (1.0, (-4.0, 0.0, 11.0), (0, 0, 0), "out of the window, up and to the left"),
         (1.2, (-3.0, 0.0, 8.0), (0, 0, 0), "past the lateral edge of the body, in front of the "
@@ -178,44 +191,47 @@ def DRIFT():
 
 
 def PLUNGE():
-    # Plunges through the posterior annulus into the spinal cord / PLL zone and stays 1.5 s.
-    return ("rows", "posterior plunge toward the cord", [
-        (1.0, (-2.5, 0.0, 12.0), (0, 0, 0), "above the window"),
-        (1.2, (-2.5, 0.0, -2.6), (0, 0, 0), "plunge to the back of the nucleus"),
-        (0.8, (-2.5, 0.0, -6.8), (0, 0, 0), "on through the posterior annulus: 3 mm too deep"),
-        (1.5, (-2.5, 0.0, -6.8), (0, 0, 0), "stays there"),
-        (0.8, (-2.5, 0.0, -2.6), (0, 0, 0), "back to the expert's depth"),
-        (1.2, (2.0, 0.0, -2.6), (0, 0, 0), "sweep"),
-        (1.0, (2.0, 0.0, 14.0), (0, 0, 0), "withdrawal"),
+    # Plunges through the posterior annulus into the spinal cord / PLL zone and stays 1.5 s:
+    # ("cord", dz) rows are dz mm in front of the posterior body wall.
+    return ("cord_rows", "posterior plunge toward the cord", [
+        (1.0, (-0.5, 0.0, None), (0, 0, 0), "above the window"),
+        (1.2, (-0.5, 0.0, 4.6), (0, 0, 0), "plunge to the back of the nucleus"),
+        (0.8, (-0.5, 0.0, 0.4), (0, 0, 0), "on through the posterior annulus: the cup's back "
+                                            "1.5 mm into the cord zone"),
+        (1.5, (-0.5, 0.0, 0.4), (0, 0, 0), "stays there"),
+        (0.8, (-0.5, 0.0, 4.6), (0, 0, 0), "back to the expert's depth"),
+        (1.2, (0.4, 0.0, 4.6), (0, 0, 0), "sweep"),
+        (1.0, (0.4, 0.0, None), (0, 0, 0), "withdrawal"),
     ])
 
 
 def LEVER():
     # Levers on the shaft with the cup deep in the disc: the shaft bears on the endplate rims.
     return ("rows", "levering on the shaft against the endplate rims", [
-        (1.0, (0.0, 0.0, 12.0), (0, 0, 0), "above the window"),
-        (1.2, (0.0, 0.0, -2.0), (0, 0, 0), "plunge into the nucleus"),
-        (1.0, (0.0, 0.0, -2.0), (24, 0, 0), "lever: roll 24 deg, the cup pried toward C4"),
-        (1.0, (0.0, 0.0, -2.0), (24, 0, 0), "holds the lever"),
-        (1.0, (0.0, 0.0, -2.0), (0, 0, 0), "back"),
-        (1.0, (0.0, 0.0, -2.0), (-24, 0, 0), "the other way"),
-        (1.0, (0.0, 0.0, -2.0), (-24, 0, 0), "holds the lever"),
-        (1.0, (0.0, 0.0, -2.0), (0, 0, 0), "back"),
-        (1.0, (0.0, 0.0, 14.0), (0, 0, 0), "withdrawal"),
+        (1.0, (0.0, 0.0, None), (0, 0, 0), "above the window"),
+        (1.2, (0.0, 0.0, -0.4), (0, 0, 0), "plunge into the nucleus"),
+        (1.0, (0.0, 0.0, -0.4), (24, 0, 0), "lever: roll 24 deg, the cup pried toward C4"),
+        (1.0, (0.0, 0.0, -0.4), (24, 0, 0), "holds the lever"),
+        (1.0, (0.0, 0.0, -0.4), (0, 0, 0), "back"),
+        (1.0, (0.0, 0.0, -0.4), (-24, 0, 0), "the other way"),
+        (1.0, (0.0, 0.0, -0.4), (-24, 0, 0), "holds the lever"),
+        (1.0, (0.0, 0.0, -0.4), (0, 0, 0), "back"),
+        (1.0, (0.0, 0.0, None), (0, 0, 0), "withdrawal"),
     ])
 
 
 def SCRAPE():
-    # Presses the cup up against the C4 endplate and scrapes along it, front to back and across.
-    return ("rows", "scraping the C4 endplate", [
-        (1.0, (-2.5, 0.0, 12.0), (0, 0, 0), "above the window"),
-        (1.0, (-2.5, 0.0, 0.5), (0, 0, 0), "into the disc"),
-        (0.8, (-2.5, 2.4, 0.5), (0, 0, 0), "pressed up into the C4 endplate"),
-        (1.5, (2.5, 2.4, 0.5), (0, 0, 0), "scraping across it"),
-        (1.2, (2.5, 2.4, -2.5), (0, 0, 0), "and back along it"),
-        (1.5, (-2.5, 2.4, -2.5), (0, 0, 0), "and across again"),
-        (0.8, (-2.5, 0.0, -2.5), (0, 0, 0), "off the endplate"),
-        (1.0, (-2.5, 0.0, 14.0), (0, 0, 0), "withdrawal"),
+    # Presses the cup up against the C4 endplate and scrapes along it, across and back: y is
+    # mm below the C4 endplate (the cup's top 1.35 mm into the bone).
+    return ("endplate_rows", "scraping the C4 endplate", [
+        (1.0, (-0.7, None, None), (0, 0, 0), "above the window"),
+        (1.0, (-0.7, 0.0, 0.2), (0, 0, 0), "into the disc"),
+        (0.8, (-0.7, 1.35, 0.2), (0, 0, 0), "pressed up into the C4 endplate"),
+        (1.5, (0.7, 1.35, 0.2), (0, 0, 0), "scraping across it"),
+        (1.2, (0.7, 1.35, -0.45), (0, 0, 0), "and back along it"),
+        (1.5, (-0.7, 1.35, -0.45), (0, 0, 0), "and across again"),
+        (0.8, (-0.7, 0.0, -0.45), (0, 0, 0), "off the endplate"),
+        (1.0, (-0.7, None, None), (0, 0, 0), "withdrawal"),
     ])
 
 
@@ -223,106 +239,67 @@ def PAUSE(seconds, what):
     return ("pause", what, seconds)
 
 
-ANGLED_REFERENCE = [FRONT, MID_UP, MID_LOW, BACK, RIGHT_MID, RIGHT_BACK, LEFT_MID, VBACK_UP,
-                    VBACK_LOW, RIGHT_BACK_LOW, RIGHT_MID_DEEP, LEFT_BACK, MID_UP_AGAIN,
-                    MID_LOW_AGAIN]
-STRAIGHT_REFERENCE = [FRONT, MID_UP, MID_LOW, BACK, ST_OTHER_MID, ST_OTHER_BACK, ST_FRONT_UP,
-                      ST_BACK_LOW_OTHER, ST_BACK_LOW, ST_MID_UP_OTHER, ST_BACK_AGAIN,
-                      ST_FRONT_LOW_OTHER, ST_MID_UP_AGAIN, ST_MID_LOW_AGAIN]
-
-# name -> (description, pace (times the blocks), moves)
-ANGLED_EXPERTS_02 = {
-    "expert_1": ("the reference plan: four over the middle, eight along the lateral annulus and "
-                 "at the very back, the middle again", 0.75, ANGLED_REFERENCE),
-    "expert_2": ("sides first: the front, then both lateral gutters, then the middle and the "
-                 "back, at a steadier pace", 0.8,
-                 [FRONT, RIGHT_MID, LEFT_MID, MID_UP, MID_LOW, RIGHT_BACK, LEFT_BACK, BACK,
-                  VBACK_UP, VBACK_LOW, RIGHT_MID_DEEP, LEFT_MID_DEEP, MID_UP_AGAIN]),
-    "expert_3": ("back first, slow and deliberate: the middle, then the very back, then the "
-                 "sides", 0.85,
-                 [FRONT, MID_UP, BACK, VBACK_UP, VBACK_LOW, MID_LOW, RIGHT_BACK, LEFT_BACK,
-                  RIGHT_MID_DEEP, LEFT_MID_DEEP, MID_UP_AGAIN, MID_LOW_AGAIN]),
-    "expert_4": ("brisk: sixteen quick scoops, alternating sides", 0.65,
-                 [FRONT, MID_UP, MID_LOW, BACK, RIGHT_MID, LEFT_MID, RIGHT_BACK, LEFT_BACK,
-                  VBACK_UP, VBACK_LOW, RIGHT_MID_DEEP, LEFT_MID_DEEP, RIGHT_BACK_LOW,
-                  LEFT_BACK_LOW, MID_UP_AGAIN, MID_LOW_AGAIN]),
-    "expert_5": ("both directions: each region swept once toward each side", 0.75,
-                 [FRONT, FRONT_OTHER, MID_UP, MID_LOW_AGAIN, BACK, VBACK_LOW, RIGHT_MID,
-                  LEFT_MID, RIGHT_BACK, LEFT_BACK, VBACK_UP, RIGHT_MID_DEEP, LEFT_MID_DEEP,
-                  MID_UP_AGAIN]),
+# name -> (description, pace (times the blocks), moves). A scoop and its wipe take 11.3 s times
+# the pace; each plan ends a few seconds before its module's time limit.
+REFERENCE = [F1, F2, M1, M2, M3, M4, L1, L2, B1, B2, LB1, LB2, B3, B4]
+EXPERTS_120 = {
+    "expert_1": ("the reference plan: the front from each side, the middle in both halves and "
+                 "both directions, both sides, then the back, 14 scoops", 0.65, REFERENCE),
+    "expert_2": ("the front and the middle, the sides at the middle and the back, then the "
+                 "back and the front's upper half, 13 scoops at a steadier pace", 0.7,
+                 [F1, F2, M1, M2, M4, M3, L1, L2, LB1, LB2, B1, B2, F_UP]),
+    "expert_3": ("front to back in three rows, unhurried, 12 scoops", 0.75,
+                 [F1, M1, B1, F2, M2, B2, L1, L2, M3, B3, M4, B4]),
+    "expert_4": ("brisk: 16 quick scoops", 0.56,
+                 [F1, F2, M1, M2, L1, L2, B1, B2, M3, M4, LB1, LB2, B3, B4, F_UP, F_LOW]),
+    "expert_5": ("upper half, then lower half, 13 scoops", 0.68,
+                 [F_UP, F_LOW, M1, M4, B1, B4, L1, L2, M2, M3, B2, B3, LF1]),
 }
-ANGLED_EXPERTS_04 = {
-    "expert_1": ("the reference plan's first ten scoops, against the clock", 0.75,
-                 ANGLED_REFERENCE[:10]),
-    "expert_2": ("eleven quicker scoops: the middle, both sides, the very back", 0.7,
-                 [FRONT, MID_UP, MID_LOW, BACK, RIGHT_MID, LEFT_MID, RIGHT_BACK, LEFT_BACK,
-                  VBACK_UP, VBACK_LOW, MID_UP_AGAIN]),
-    "expert_3": ("nine unhurried scoops, back first", 0.85,
-                 [FRONT, MID_UP, BACK, VBACK_UP, VBACK_LOW, MID_LOW, RIGHT_BACK, LEFT_BACK,
-                  MID_UP_AGAIN]),
-    "expert_4": ("twelve brisk scoops, sides first", 0.62,
-                 [FRONT, RIGHT_MID, LEFT_MID, MID_UP, MID_LOW, RIGHT_BACK, LEFT_BACK, BACK,
-                  VBACK_UP, VBACK_LOW, RIGHT_MID_DEEP, LEFT_MID_DEEP]),
-    "expert_5": ("ten scoops in both directions", 0.78,
-                 [FRONT, FRONT_OTHER, MID_UP, MID_LOW_AGAIN, BACK, VBACK_LOW, RIGHT_BACK,
-                  LEFT_BACK, VBACK_UP, MID_UP_AGAIN]),
-}
-STRAIGHT_EXPERTS_03 = {
-    "expert_1": ("the reference plan: six over the disc, six more at other heights and depths, "
-                 "the middle again", 0.75, STRAIGHT_REFERENCE),
-    "expert_2": ("the same scoops, second pass first, at a steadier pace", 0.8,
-                 [FRONT, ST_OTHER_MID, MID_UP, ST_BACK_LOW_OTHER, ST_BACK_LOW, MID_LOW, BACK,
-                  ST_OTHER_BACK, ST_FRONT_UP, ST_MID_UP_OTHER, ST_BACK_AGAIN,
-                  ST_FRONT_LOW_OTHER, ST_MID_UP_AGAIN]),
-    "expert_3": ("twelve slow scoops, the back early", 0.85,
-                 [FRONT, MID_UP, BACK, ST_OTHER_BACK, MID_LOW, ST_OTHER_MID, ST_BACK_LOW,
-                  ST_BACK_LOW_OTHER, ST_FRONT_UP, ST_MID_UP_OTHER, ST_MID_UP_AGAIN,
-                  ST_MID_LOW_AGAIN]),
-    "expert_4": ("sixteen brisk scoops", 0.65,
-                 STRAIGHT_REFERENCE + [ST_OTHER_MID, ST_BACK_LOW]),
-    "expert_5": ("alternating directions through the middle", 0.75,
-                 [FRONT, FRONT_OTHER, MID_UP, ST_MID_UP_OTHER, MID_LOW, ST_MID_LOW_AGAIN,
-                  BACK, ST_OTHER_BACK, ST_FRONT_UP, ST_FRONT_LOW_OTHER, ST_BACK_LOW,
-                  ST_BACK_LOW_OTHER, ST_MID_UP_AGAIN, ST_BACK_AGAIN]),
+EXPERTS_90 = {
+    "expert_1": ("the reference plan's first eleven scoops, against the clock", 0.62,
+                 REFERENCE[:11]),
+    "expert_2": ("the front and the middle, the sides, the back, twelve quicker scoops", 0.58,
+                 [F1, F2, M1, M2, M4, M3, L1, L2, LB1, LB2, B1, B2]),
+    "expert_3": ("front to back, nine unhurried scoops", 0.75,
+                 [F1, M1, B1, F2, M2, B2, L1, L2, M3]),
+    "expert_4": ("twelve brisk scoops", 0.56,
+                 [F1, F2, M1, M2, L1, L2, B1, B2, M3, M4, LB1, LB2]),
+    "expert_5": ("upper half, then lower half, ten scoops", 0.7,
+                 [F_UP, F_LOW, M1, M4, B1, B4, L1, L2, M2, M3]),
 }
 
 
 def novices(reference, time_limit_s):
     """The same five kinds of error for every anatomical module."""
-    # Too slow: the reference plan at a third of the experts' pace with a pause before each
-    # scoop; the time limit runs out after a few scoops.
+    # Too slow: the reference plan at the pace 1.6 with a pause before each scoop; the time limit
+    # runs out after a few scoops.
     slow = []
-    for i, s in enumerate(reference):
+    for s in reference:
         slow.append(PAUSE(6.0, "hesitates over the window"))
         slow.append(s)
     return {
-        "novice_drift": ("one clean scoop, then the cup wanders out of the window to the left, "
-                         "past the edge of the vertebral body and down beside the uncinate "
+        "novice_drift": ("three clean scoops, then the cup wanders out of the window to the "
+                         "left, past the edge of the vertebral body and down beside the uncinate "
                          "process to 0.5 mm from the left vertebral artery's zone", 0.75,
-                         [FRONT, DRIFT()]),
-        "novice_plunge": ("one clean scoop, then a plunge 3 mm too deep through the posterior "
-                          "annulus into the spinal cord / PLL zone", 0.75, [FRONT, PLUNGE()]),
+                         [F1, F2, M1, DRIFT()]),
+        "novice_plunge": ("one clean scoop, then a plunge through the posterior annulus, the "
+                          "cup's back 1.5 mm into the spinal cord / PLL zone", 0.75,
+                          [F1, PLUNGE()]),
         "novice_lever": ("one clean scoop, then levering on the shaft (roll 24 deg each way) "
                          "with the cup deep in the disc: the shaft bears on the endplate rims",
-                         0.75, [FRONT, LEVER()]),
-        "novice_scrape": ("one clean scoop, then the cup pressed against the C4 endplate and "
-                          "scraped across and along it", 0.75, [FRONT, SCRAPE()]),
-        "novice_slow": ("hesitation: the reference plan at 1.6 times the experts' slowest pace, "
-                        "pausing 6 s over the window before each scoop; the time limit "
-                        "(%g s) ends it" % time_limit_s, 1.6, slow),
+                         0.75, [F1, LEVER()]),
+        "novice_scrape": ("three clean scoops, then the cup pressed against the C4 endplate "
+                          "and scraped across and along it", 0.75, [F1, F2, M1, SCRAPE()]),
+        "novice_slow": ("hesitation: the reference plan at pace 1.6, pausing 6 s over the "
+                        "window before each scoop; the time limit (%g s) ends it" % time_limit_s,
+                        1.6, slow),
     }
 
 
 def plans_for(module_path, g):
-    name = os.path.splitext(os.path.basename(module_path))[0]
-    if name.startswith("03") or not g["angled"]:
-        experts, reference = STRAIGHT_EXPERTS_03, STRAIGHT_REFERENCE
-    elif name.startswith("04") or g["time_limit_s"] and g["time_limit_s"] < 100:
-        experts, reference = ANGLED_EXPERTS_04, ANGLED_REFERENCE
-    else:
-        experts, reference = ANGLED_EXPERTS_02, ANGLED_REFERENCE
+    experts = EXPERTS_90 if g["time_limit_s"] and g["time_limit_s"] < 100 else EXPERTS_120
     plans = dict(experts)
-    plans.update(novices(reference, g["time_limit_s"]))
+    plans.update(novices(REFERENCE, g["time_limit_s"]))
     return plans
 
 
@@ -334,12 +311,13 @@ def cup_rows(plan, g):
     """The cup-centre rows (strings, with '#' comments) of one plan on geometry g."""
     description, pace, moves = plan
     p = Placement(g)
-    wipe_pitch, press = (80, 1.06) if g["angled"] else (65, 0.30)
-    turn = 7.06 if g["angled"] else 8.0        # reference heights above the floor: turn, lift
+    wipe_pitch, press = (80, 0.70) if g["angled"] else (65, 0.0)
+    turn = 7.06 if g["angled"] else 8.0        # heights above the floor: turn, lift
     lift = 7.06 if g["angled"] else 6.0
+    window, out_of_disc, clear = p.above(4.0), p.above(6.0), p.above(12.0)
     out = []
     t = 0.0
-    last = (p.x(0.0), p.y(0.0), p.above(20.0))
+    last = (p.lateral(0.0, 0.0), 0.0, clear)
     out.append(fmt(t, last, (0, 0, 0), "start, above the field"))
     n = 0
 
@@ -348,47 +326,76 @@ def cup_rows(plan, g):
         t += dt
         out.append(fmt(t, cup, rpy, what))
 
+    limit = g["time_limit_s"]
     for m in moves:
-        if g["time_limit_s"] and t >= g["time_limit_s"]:
+        if limit and t >= limit:
             break  # the attempt ends at the time limit: no more moves
         if m[0] == "pause":
             row(m[2], last, (0, 0, 0), m[1])
             continue
         n += 1
-        b = [x * pace for x in BLOCKS_S]
+        b = [x * pace for x in SCOOP_S]
+        w = [x * pace for x in WIPE_S]
         if m[0] == "scoop":
-            _, what, x0, x1, y, z = m
-            yaw = 0 if x1 > x0 else 180
+            _, what, u0, u1, y, v = m
+            yaw = 0 if u1 > u0 else 180
+            z = p.depth(v)
+            y = p.height(y)
+            # the plunge passes through the window with 0.1 mm to spare each side
+            x0 = max(-p.window, min(p.window, p.lateral(u0, z)))
+            x1 = p.lateral(u1, z)
             out.append("# scoop %d: %s" % (n, what))
-            row(b[0], (p.x(x0), p.y(y), p.above(12.0)), (0, 0, yaw), "above the window")
-            row(b[1], (p.x(x0), p.y(y), p.z(z)), (0, 0, yaw), "plunge into the nucleus")
-            row(b[2], (p.x(x1), p.y(y), p.z(z)), (0, 0, yaw),
-                "sweep toward the opening: the cup fills")
-            row(b[3], (p.x(x1), p.y(y), p.above(14.0)), (0, 0, yaw), "straight withdrawal")
-            row(b[4], (p.x(x1), p.y(0.0), p.above(20.0)), (0, 0, yaw), "")
+            row(b[0], (x0, y, window), (0, 0, yaw), "above the window")
+            z0 = max(z, p.floor(x0))
+            if z0 < p.ease_from:
+                # deep: plunge to the middle, then ease back, so the gel ahead of the cup is not
+                # driven into the posterior annulus (a fast plunge bulged it 0.7 mm backward)
+                row(b[1], (x0, y, p.ease_from), (0, 0, yaw), "plunge into the nucleus")
+                row(EASE_S * pace, (x0, y, z0), (0, 0, yaw), "ease back to the depth")
+            else:
+                row(b[1], (x0, y, z0), (0, 0, yaw), "plunge into the nucleus")
+            # the sweep; where the posterior annulus curves forward, the cup follows it
+            steps = 1 if max(p.floor(x0), p.floor(x1)) <= z else 4
+            for k in range(1, steps + 1):
+                xk = x0 + (x1 - x0) * k / steps
+                row(b[2] / steps, (xk, y, max(z, p.floor(xk))), (0, 0, yaw),
+                    "sweep toward the opening: the cup fills" if k == steps else
+                    "sweep, clear of the posterior annulus")
+            row(b[3], (x1, y, out_of_disc), (0, 0, yaw), "straight withdrawal")
+            row(b[4], (x1, 0.0, clear), (0, 0, yaw), "")
         else:
             kind, what, rows = m
             out.append("# %d: %s" % (n, what))
-            for k, (dt, (x, y, z), rpy, note) in enumerate(rows):
+            cup = last
+            for dt, (x, y, z), rpy, note in rows:
                 if kind == "artery_rows":
                     cup = p.artery(x, y, z)
                 else:
-                    inside = z < p.front_ref
-                    cup = (p.x(x), p.y(y), p.z(z) if inside else p.above(z))
+                    # u as a fraction of the nucleus's semi-axis, not kept inside it: these are
+                    # the mistakes
+                    xx = g["nucleus_cx"] + x * g["nucleus_a"]
+                    if z is None:
+                        zz = window
+                    elif kind == "cord_rows":
+                        zz = g["body_back_z"] + z
+                    else:
+                        zz = p.depth(z)
+                    yy = 0.0 if y is None else y
+                    if kind == "endplate_rows" and y is not None and y > 0:
+                        yy = 0.5 * g["disc_height"] - g["cup_r"] + y
+                    cup = (xx, yy, zz)
                 row(dt * pace, cup, rpy, note)
-            row(b[4], (cup[0], p.y(0.0), p.above(20.0)), (0, 0, 0), "")
+            row(b[4], (cup[0], 0.0, clear), (0, 0, 0), "")
         # the wipe on the tray
-        row(b[5], p.tray(3.0, -29.0, 20.0 - 6.0 + REFERENCE["tray_floor"]), (0, 0, 0),
-            "over the tray")
-        row(b[6], p.tray(3.0, -29.0, 6.0 + turn), (0, wipe_pitch, 0),
+        row(w[0], p.tray(4.0, 2.0, 14.0), (0, 0, 0), "over the tray")
+        row(w[1], p.tray(4.0, 2.0, turn), (0, wipe_pitch, 0),
             "opening turned down (pitch %d)" % wipe_pitch)
-        row(b[7], p.tray(3.0, -29.0, 6.0 + press), (0, wipe_pitch, 0),
-            "lip pressed 0.5 mm into the tray floor")
-        row(b[8], p.tray(0.0, -29.0, 6.0 + press), (0, wipe_pitch, 0), "wipe: drag 3 mm, lip first")
-        row(b[9], p.tray(0.0, -29.0, 6.0 + lift), (0, wipe_pitch, 0),
-            "lift off")
-        row(b[10], p.tray(0.0, -20.0, 20.0), (0, 0, 0), "")
-        last = (p.x(0.0), p.y(0.0), p.above(20.0))
+        row(w[2], p.tray(4.0, 2.0, press), (0, wipe_pitch, 0),
+            "lip pressed into the tray floor")
+        row(w[3], p.tray(-6.0, 2.0, press), (0, wipe_pitch, 0), "wipe: drag 10 mm, lip first")
+        row(w[4], p.tray(-6.0, 2.0, lift), (0, wipe_pitch, 0), "lift off")
+        row(w[5], p.tray(0.0, g["tray_far_y"] - g["tray_cy"], 14.0), (0, 0, 0), "")
+        last = (p.lateral(0.0, 0.0), 0.0, clear)
     return description, out
 
 
