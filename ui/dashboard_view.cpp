@@ -468,8 +468,8 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
     const MeshSilhouette& bone = view == 0 ? d.replay.bone_top : d.replay.bone_side;
     // With vertebrae, name the views as a surgeon would: from above is the anterior view.
     const char* title = bone.empty() ? (view == 0 ? "Top (x-y)" : "Side (x-z)")
-                                     : (view == 0 ? "Front, the surgeon's view (x-y)"
-                                                  : "Along the spine (x-z)");
+                                     : (view == 0 ? "Front (x-y)"
+                                                  : "Axial (x-z)");
     ImGui::TextColored(ui_colors::kMuted, "%s", title);
     const ImVec2 a = ImGui::GetCursorScreenPos();
     const ImVec2 b(a.x + panel_w, a.y + panel_h);
