@@ -12,6 +12,18 @@
 namespace acdr {
 namespace {
 
+// A record as an older program left it: `sql` run on a new file at `path`, outside Database.
+void write_old_record(const std::string& path, const std::string& sql) {
+  sqlite3* raw = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+  char* message = nullptr;
+  const int rc = sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, &message);
+  const std::string error = message ? message : "";
+  sqlite3_free(message);
+  sqlite3_close(raw);
+  ASSERT_EQ(rc, SQLITE_OK) << error;
+}
+
 TEST(Schema, MigrationsAreOrderedOnePerVersion) {
   const auto migrations = schema_migrations();
   ASSERT_EQ(static_cast<int>(migrations.size()), kSchemaVersion);
@@ -78,8 +90,6 @@ TEST(Schema, MigratesAVersion1RecordKeepingItsEvents) {
   test::TempDir dir;
   const std::string path = dir.file("v1.sqlite");
   {
-    sqlite3* raw = nullptr;
-    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
     const std::string sql =
         std::string(schema_migrations()[0].sql) +
         "PRAGMA user_version = 1; PRAGMA application_id = " + std::to_string(kApplicationId) +
@@ -89,10 +99,7 @@ TEST(Schema, MigratesAVersion1RecordKeepingItsEvents) {
         "  writer_pid, writer_host) VALUES ('u1', 'r1', 'm1', 't', 't', 1, 'h');"
         "INSERT INTO events (attempt_id, seq, t_s, kind, zone, value) VALUES "
         "  (1, 0, 0.5, 'zone_warning', 'foramen_left', 1.5), (1, 1, 0.7, 'overload_warning', '', 0.3);";
-    char* message = nullptr;
-    ASSERT_EQ(sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, &message), SQLITE_OK)
-        << (message ? message : "");
-    sqlite3_close(raw);
+    ASSERT_NO_FATAL_FAILURE(write_old_record(path, sql));
   }
   Database db = test::open_or_fail(path);
   EXPECT_EQ(db.pragma_int("user_version").value(), kSchemaVersion);
@@ -119,8 +126,6 @@ TEST(Schema, MigratesAVersion3RecordAddingTheRealTimeFactor) {
   test::TempDir dir;
   const std::string path = dir.file("v3.sqlite");
   {
-    sqlite3* raw = nullptr;
-    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
     std::string sql;
     for (int v = 0; v < 3; ++v) sql += schema_migrations()[v].sql;
     sql += "PRAGMA user_version = 3; PRAGMA application_id = " + std::to_string(kApplicationId) +
@@ -132,10 +137,7 @@ TEST(Schema, MigratesAVersion3RecordAddingTheRealTimeFactor) {
            "  writer_host) VALUES ('u1', 'r1', 't1', 'm1', 'completed', "
            "  '2024-05-01T09:00:00.000Z', '2024-05-01T09:01:00.000Z', "
            "  '2024-05-01T09:01:00.000Z', 60.0, 72.5, 1, 1, 'h');";
-    char* message = nullptr;
-    ASSERT_EQ(sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, &message), SQLITE_OK)
-        << (message ? message : "");
-    sqlite3_close(raw);
+    ASSERT_NO_FATAL_FAILURE(write_old_record(path, sql));
   }
   Database db = test::open_or_fail(path);
   EXPECT_EQ(db.pragma_int("user_version").value(), kSchemaVersion);
