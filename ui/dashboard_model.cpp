@@ -128,7 +128,7 @@ std::shared_ptr<const ScenarioModel> load_scenario_parts(Database& db, AttemptDr
       d.replay.bone_top = project_silhouette(both, 0, 1, kCell);
       d.replay.bone_side = project_silhouette(both, 0, 2, kCell);
     } catch (const std::exception& e) {
-      d.scenario_error = std::string("vertebrae not shown: ") + e.what();
+      d.replay.bone_note = std::string("vertebrae not shown: ") + e.what();
     }
   }
   return loaded.model;

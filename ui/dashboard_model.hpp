@@ -60,6 +60,7 @@ struct ReplayGeometry {
   /// The vertebrae's outlines in the two replay views (x-y from above, x-z along the spine);
   /// empty in scenes without anatomy.
   MeshSilhouette bone_top, bone_side;
+  std::string bone_note;  ///< why the vertebrae are not shown, when the scene has them but they could not be loaded
   Eigen::AlignedBox3d bounds;        ///< the walls and every recorded tip position (m)
 
   /// The instrument's colliders with its grip at `grip` (world frame), into `out`.

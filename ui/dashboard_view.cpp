@@ -443,6 +443,7 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
                      100.0 * d.removed_fraction[i], d.hand_force_N[i], d.tissue_force_N[i],
                      f.bending_moment_Nm);
 
+  if (!d.replay.bone_note.empty()) ImGui::TextColored(ui_colors::kMuted, "%s", d.replay.bone_note.c_str());
   // Geometry from the model (box walls, the instrument at this frame's grip pose) and what is
   // drawn: the walls, the whole tip path and the instrument's working end now.
   const std::vector<Collider>& statics = d.replay.walls;
