@@ -212,7 +212,37 @@ SignedDistanceGrid SignedDistanceGrid::build(const TriangleMesh& mesh, const Sdf
       }
     }
   }
+  g.compute_gradient_bound();
   return g;
+}
+
+// Inside a cell the interpolant's x derivative is a bilinear blend of the cell's four x-edge
+// differences over the spacing, so it is at most the largest of them; likewise y and z. The
+// relative margin covers the rounding of the lookups' double arithmetic.
+void SignedDistanceGrid::compute_gradient_bound() {
+  gradient_bound_ = 0.0;
+  if (values_.empty()) return;
+  const std::size_t nx = static_cast<std::size_t>(dims_[0]);
+  const std::size_t nxy = nx * static_cast<std::size_t>(dims_[1]);
+  double worst2 = 0.0;
+  for (int k = 0; k + 1 < dims_[2]; ++k) {
+    for (int j = 0; j + 1 < dims_[1]; ++j) {
+      for (int i = 0; i + 1 < dims_[0]; ++i) {
+        const float* v = values_.data() + (static_cast<std::size_t>(k) * nxy +
+                                           static_cast<std::size_t>(j) * nx + i);
+        const double c[8] = {v[0], v[1], v[nx], v[nx + 1], v[nxy], v[nxy + 1], v[nxy + nx],
+                             v[nxy + nx + 1]};
+        // Corner index bits: 1 x, 2 y, 4 z.
+        double m[3] = {0.0, 0.0, 0.0};
+        for (int a = 0; a < 3; ++a)
+          for (int corner = 0; corner < 8; ++corner)
+            if (!(corner & (1 << a)))
+              m[a] = std::max(m[a], std::abs(c[corner | (1 << a)] - c[corner]));
+        worst2 = std::max(worst2, m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+      }
+    }
+  }
+  gradient_bound_ = std::sqrt(worst2) / spacing_ * (1.0 + 1e-9);
 }
 
 Vec3 SignedDistanceGrid::max_corner_m() const {
@@ -304,6 +334,7 @@ std::optional<SignedDistanceGrid> SignedDistanceGrid::deserialize(std::string_vi
   g.key_ = hd.key;
   g.values_.resize(n);
   std::memcpy(g.values_.data(), bytes.data() + sizeof hd, n * sizeof(float));
+  g.compute_gradient_bound();
   return g;
 }
 

@@ -48,6 +48,14 @@ class SignedDistanceGrid {
   /// Same, and the outward unit normal (normalised gradient of the interpolant).
   double distance(const Vec3& p, Vec3* normal) const;
 
+  /// A bound on how fast distance() can change inside the grid's box, per metre: the largest
+  /// gradient of the trilinear interpolant over its cells (each axis' derivative bounded by
+  /// the cell's largest sample difference along that axis). Outside the box add 1 (the
+  /// distance to the box). A lookup at p then bounds every lookup within r of p by
+  /// distance(p) -+ (gradient_bound() + 1) r, which lets callers skip lookups that cannot
+  /// matter. Computed when the grid is built or loaded; 0 for an empty grid.
+  double gradient_bound() const { return gradient_bound_; }
+
   bool empty() const { return values_.empty(); }
   const Vec3& origin_m() const { return origin_; }
   double spacing_m() const { return spacing_; }
@@ -69,6 +77,9 @@ class SignedDistanceGrid {
   std::array<int, 3> dims_{0, 0, 0};
   std::vector<float> values_;
   std::uint64_t key_ = 0;
+  double gradient_bound_ = 0.0;
+
+  void compute_gradient_bound();
 };
 
 /// FNV-1a over the mesh bytes, the grid parameters and the format version.

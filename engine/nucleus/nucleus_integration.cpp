@@ -91,16 +91,18 @@ class Projector {
     Vec3 p1 = to_local(end, end_unrotated, state_.x[i]);
     const double len = (p1 - p0).norm();
     // The start distance is the one setup_walls found for this particle's hit on c (the same
-    // evaluation). For an exact distance (1-Lipschitz: not the sampled bone) a path shorter
-    // than d0 - contact - 2 tiny can neither end inside nor cross the inflated surface, the
-    // test below would pass: skip both distances.
+    // evaluation). The distance changes by at most slope x len along the path (slope 1 for an
+    // exact distance, more for the sampled bone), so when slope x len <= d0 - contact -
+    // 2 tiny the path can neither end inside nor cross the inflated surface (d1 >= d0 -
+    // slope len, and d0 + d1 - 2 contact >= len): the test below would pass, skip both
+    // distances.
     const std::int32_t hit_id = is_static ? -1 - static_cast<std::int32_t>(c_idx)
                                           : static_cast<std::int32_t>(c_idx - n_static_);
     std::size_t h = hit_begin;
     while (h < hit_end && walls_.hits[h].collider != hit_id) ++h;
     const bool known = h < hit_end;
-    if (known && c.kind != ColliderKind::kSdfGrid &&
-        len <= walls_.hits[h].distance - model_.contact - 2.0 * tiny_)
+    if (known && distance_slope_bound(c) * len <=
+                     walls_.hits[h].distance - model_.contact - 2.0 * tiny_)
       return false;
     Vec3 n1;
     const double d1 = signed_distance_local(c, p1, &n1);

@@ -8,6 +8,7 @@
 
 #include "engine/core/types.hpp"
 #include "engine/geometry/collider.hpp"
+#include "engine/geometry/signed_distance_grid.hpp"
 #include "engine/nucleus/nucleus_workspace.hpp"
 
 namespace acdr::nucleus {
@@ -86,6 +87,14 @@ inline bool collider_bounds(const Collider& c, Vec3* lo, Vec3* hi) {
   *lo = c.pose.position - e;
   *hi = c.pose.position + e;
   return true;
+}
+
+/// How fast a collider's signed distance can change per metre moved (in its own frame): 1 for
+/// the exact shapes, the sampled bone's gradient bound plus 1 (its distance beyond the grid's
+/// box is added to the clamped lookup). |sd(p) - sd(q)| <= slope |p - q| for any p, q.
+inline double distance_slope_bound(const Collider& c) {
+  if (c.kind == ColliderKind::kSdfGrid && c.sdf != nullptr) return c.sdf->gradient_bound() + 1.0;
+  return 1.0;
 }
 
 /// Distance from p to the box [lo, hi] (0 inside): a lower bound of the distance to any solid

@@ -153,8 +153,9 @@ class WallBuilder {
   }
 
   void walls_of_every_particle() {
-    // Static colliders per particle. A static collider whose lower distance bound (box gap, or
-    // the exact distance of a half-space) was at least wall_range + margin where the mask was
+    // Static colliders per particle. A static collider whose lower distance bound (box gap,
+    // the exact distance of a half-space, the bone's sampled distance less what it can change
+    // beyond a 1-Lipschitz bound over the margin) was at least wall_range + margin where the mask was
     // found is at least wall_range away while the particle stays within the margin of that
     // place (distances are 1-Lipschitz); when also the contact reach bound is inside the wall
     // range (|v| dt <= wall_range - contact - 0.1 h), the test below would skip it, so it is
@@ -174,7 +175,7 @@ class WallBuilder {
       std::uint32_t statics_mask = all_statics;
       if (model_.solver.contact_culling && vi.squaredNorm() <= slow_v2 * (1.0 - 1e-9)) {
         if (!((xi - cull_.static_ref[i]).squaredNorm() <= mask_margin2)) {
-          cull_.static_mask[i] = statics_near(xi, mask_far);
+          cull_.static_mask[i] = statics_near(xi, mask_far, mask_margin);
           cull_.static_ref[i] = xi;
         }
         statics_mask = cull_.static_mask[i];
@@ -184,15 +185,25 @@ class WallBuilder {
   }
 
  private:
-  // The static colliders whose lower distance bound from x is below `far` (bit k: static k).
-  std::uint32_t statics_near(const Vec3& xi, double far) const {
+  // The static colliders whose lower distance bound from x is below `far` (bit k: static k),
+  // the bound taken as 1-Lipschitz over the `margin` around x.
+  std::uint32_t statics_near(const Vec3& xi, double far, double margin) const {
     std::uint32_t mask = 0;
     for (std::size_t kc = 0; kc < n_static_; ++kc) {
       const Collider& c = model_.statics[kc];
       double gap = 0.0;  // lower bound of the distance to the solid
-      if (bounded_[kc]) gap = box_gap(xi, lo_[kc], hi_[kc]);
-      else if (c.kind == ColliderKind::kHalfSpace)
+      if (bounded_[kc]) {
+        gap = box_gap(xi, lo_[kc], hi_[kc]);
+      } else if (c.kind == ColliderKind::kHalfSpace) {
         gap = signed_distance_local(c, to_local(c.pose, frames_.identity[kc] != 0, xi), nullptr);
+      } else if (c.kind == ColliderKind::kSdfGrid) {
+        // The sampled bone changes by at most slope x margin over the margin, where a
+        // 1-Lipschitz bound would change by the margin: the excess comes off its value here.
+        // One lookup per mask instead of one per particle and step.
+        const double d =
+            signed_distance_local(c, to_local(c.pose, frames_.identity[kc] != 0, xi), nullptr);
+        gap = d - (distance_slope_bound(c) - 1.0) * margin;
+      }
       if (!(gap >= far)) mask |= 1u << kc;
     }
     return mask;

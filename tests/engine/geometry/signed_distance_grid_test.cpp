@@ -125,6 +125,40 @@ TEST(SignedDistanceGrid, ClippedGridAgreesWithTheFullGrid) {
   }
 }
 
+TEST(SignedDistanceGrid, GradientBoundHoldsBetweenLookupsInsideAndOutsideTheGrid) {
+  const TriangleMesh m = make_sphere_mesh(Vec3::Zero(), 3 * kMm, 2);
+  SdfGridParams params;
+  params.spacing_m = 0.25 * kMm;
+  params.clip = true;  // so that some points lie outside the grid's box
+  params.clip_min_m = Vec3(-1 * kMm, -1 * kMm, 1 * kMm);
+  params.clip_max_m = Vec3(1 * kMm, 1 * kMm, 4 * kMm);
+  const SignedDistanceGrid g = SignedDistanceGrid::build(m, params);
+  const double L = g.gradient_bound();
+  // Samples of a distance differ by at most a spacing along each axis, so the bound is at
+  // most sqrt(3) (reached in cells across the sphere's centre, where the distance has a
+  // kink) and at least 1 (the distance's own slope).
+  EXPECT_GE(L, 0.99);
+  EXPECT_LE(L, std::sqrt(3.0) * 1.001);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-4 * kMm, 6 * kMm), step(-0.4 * kMm, 0.4 * kMm);
+  double worst = 0.0;
+  for (int t = 0; t < 20000; ++t) {
+    const Vec3 p(u(rng) * 0.5, u(rng) * 0.5, u(rng));
+    const Vec3 q = p + Vec3(step(rng), step(rng), step(rng));
+    const double r = (p - q).norm();
+    if (r <= 0.0) continue;
+    const double slope = std::abs(g.distance(p) - g.distance(q)) / r;
+    worst = std::max(worst, slope);
+    ASSERT_LE(slope, L + 1.0 + 1e-9) << t;  // inside the box L, beyond it one more
+  }
+  EXPECT_GT(worst, 0.5);  // the samples did test something
+  // A loaded grid has the same bound.
+  std::string error;
+  const auto loaded = SignedDistanceGrid::deserialize(g.serialize(), &error);
+  ASSERT_TRUE(loaded) << error;
+  EXPECT_EQ(loaded->gradient_bound(), L);
+}
+
 TEST(SignedDistanceGrid, LookupsDoNotAllocate) {
   const TriangleMesh m = make_sphere_mesh(Vec3::Zero(), 3 * kMm, 2);
   const SignedDistanceGrid g = SignedDistanceGrid::build(m, SdfGridParams{});
