@@ -8,11 +8,29 @@
 #include <cstddef>
 #include <cstdint>
 
+#include <emmintrin.h>
+
 #include "engine/nucleus/nucleus_math.hpp"
 #include "engine/nucleus/nucleus_stages.hpp"
 
 namespace acdr::nucleus {
 namespace {
+
+// Pairs [begin, end): the viscous weight from the length, two at a time (its two square
+// roots would otherwise wait on each other inside the summing loops below; the same correctly
+// rounded operations, so the same bits).
+void viscous_weights(PairList& pairs, std::size_t begin, std::size_t end, double inv_R) {
+  const double* r = pairs.r.data();
+  double* wv = pairs.wv.data();
+  const __m128d one = _mm_set1_pd(1.0), zero = _mm_setzero_pd(), s = _mm_set1_pd(inv_R);
+  std::size_t p = begin;
+  for (; p + 1 < end; p += 2) {
+    // max(x, 0) as std::max(0.0, x) takes it: x when 0 < x, else 0.
+    const __m128d q = _mm_max_pd(_mm_sub_pd(one, _mm_mul_pd(_mm_loadu_pd(r + p), s)), zero);
+    _mm_storeu_pd(wv + p, _mm_mul_pd(q, _mm_sqrt_pd(_mm_sqrt_pd(q))));
+  }
+  if (p < end) wv[p] = viscous_weight_of(std::max(0.0, 1.0 - r[p] * inv_R));
+}
 
 // Neighbour sums: density (kernel units) and second moment, the kernels' q from the
 // reciprocal radii (every near pair is inside both radii); each near pair's density gradient
@@ -28,6 +46,9 @@ void neighbour_sums(const NucleusModel& model, const StepParticles& step, PairLi
   }
   const double inv_R = 1.0 / R, inv_Rd = 1.0 / Rd;
   const double slope_scale = -3.0 * inv_Rd / model.n0;  // dw/dr / n0 = slope_scale q^2
+  viscous_weights(pairs, 0, pairs.near, inv_R);
+  viscous_weights(pairs, cap - pairs.far, cap, inv_R);
+  const double* pw = pairs.wv.data();
   // Row by row (every pair of row k has k as its first end), the first end's sums in
   // registers.
   const std::int32_t* pj = pairs.j.data();
@@ -40,23 +61,19 @@ void neighbour_sums(const NucleusModel& model, const StepParticles& step, PairLi
       const double r = pr[p];
       const double qd = std::max(0.0, 1.0 - r * inv_Rd);
       const double w = kernel_of(qd);
-      const double wv = viscous_weight_of(std::max(0.0, 1.0 - r * inv_R));
-      const double m2 = wv * r * r;
+      const double m2 = pw[p] * r * r;
       dk += w;
       sys.density[j] += w;
       pairs.g[p] = slope_scale * qd * qd;
       mk += m2;
       sys.second_moment[j] += m2;
-      pairs.wv[p] = wv;
     }
     for (std::size_t p = cap - pairs.row_far[k + 1]; p < cap - pairs.row_far[k]; ++p) {
       const std::int32_t j = pj[p];
       const double r = pr[p];
-      const double wv = viscous_weight_of(std::max(0.0, 1.0 - r * inv_R));
-      const double m2 = wv * r * r;
+      const double m2 = pw[p] * r * r;
       mk += m2;
       sys.second_moment[j] += m2;
-      pairs.wv[p] = wv;
     }
     sys.density[k] += dk;
     sys.second_moment[k] += mk;

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <limits>
 
+#include <emmintrin.h>
+
 #include "engine/nucleus/nucleus_stages.hpp"
 
 namespace acdr::nucleus {
@@ -290,6 +292,15 @@ class PairBuilder {
     }
   }
 
+  // Every pair's length r from r^2 and its direction d / r, in one pass over the pairs after
+  // they are all found: the square roots and divisions, on two lanes at a time, no longer
+  // wait on each other inside the branchy pairing loops. (The same correctly rounded
+  // operations as one at a time, so the same bits.)
+  void normalise_pairs() {
+    normalise_range(0, pairs_.near);
+    normalise_range(cap_ - pairs_.far, cap_);
+  }
+
   void note_frozen_moving() {
     step_.frozen_moving = false;
     for (std::size_t k = step_.awake_end; k < step_.outer_end; ++k)
@@ -304,14 +315,30 @@ class PairBuilder {
       return;
     }
     const std::size_t p = r2 < Rd2_ ? pairs_.near++ : cap_ - 1 - pairs_.far++;
-    const double r = std::sqrt(r2);
     pairs_.i[p] = li;
     pairs_.j[p] = lj;
-    pairs_.r[p] = r;
-    pairs_.n[p] = d * (1.0 / r);
+    pairs_.r[p] = r2;  // r and n = d / r come in normalise_pairs()
+    pairs_.n[p] = d;
     if (bond >= 0 && !bond_intact(model_, state_, bond)) bond = -1;
     pairs_.bond[p] = bond;
     if (bond >= 0 && model_.bonds.loose_possible && bond < nb_) loose_.in_pair[bond] = 1;
+  }
+
+  void normalise_range(std::size_t begin, std::size_t end) {
+    double* r = pairs_.r.data();
+    Vec3* n = pairs_.n.data();
+    std::size_t p = begin;
+    for (; p + 1 < end; p += 2) {
+      const __m128d len = _mm_sqrt_pd(_mm_loadu_pd(r + p));
+      _mm_storeu_pd(r + p, len);
+      const __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), len);
+      n[p] *= _mm_cvtsd_f64(inv);
+      n[p + 1] *= _mm_cvtsd_f64(_mm_unpackhi_pd(inv, inv));
+    }
+    if (p < end) {
+      r[p] = std::sqrt(r[p]);
+      n[p] *= 1.0 / r[p];
+    }
   }
 
   // Starts local particle k's pairs: its Verlet row (built if needed) and where its near and
@@ -400,6 +427,7 @@ void build_pairs(const NucleusModel& model, NucleusState& state, NucleusWorkspac
   builder.number_awake();
   builder.pair_awake_rows();
   builder.pair_halo_rows();
+  builder.normalise_pairs();
   builder.find_loose_bonds();
   builder.note_frozen_moving();
 }
