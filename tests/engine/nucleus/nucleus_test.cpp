@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "engine/geometry/mesh_shapes.hpp"
+#include "engine/geometry/signed_distance_grid.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "verification/box_block_scene.hpp"
 
@@ -212,6 +214,48 @@ TEST(Nucleus, BondsBreakUnderAPullAboveKDeltaMax) {
   }
   EXPECT_EQ(n.broken_bond_count(), 1u);
   EXPECT_EQ(n.bond_alive()[0], 0);
+}
+
+// A sampled bone (a sphere's distance grid, half sunk in the box floor and poking into the
+// block) lets particles clear of it skip its lookups and the swept projection skip short
+// paths, only where a lookup could not change anything: the steps are bit-identical to those
+// of a nucleus that tests every collider for every particle (culling off).
+TEST(Nucleus, SampledBoneSkipsChangeNothing) {
+  const TriangleMesh sphere = make_sphere_mesh(Vec3(0.008, 0.010, 0.0), 4e-3, 3);
+  SdfGridParams params;
+  params.spacing_m = 0.4e-3;
+  const SignedDistanceGrid grid = SignedDistanceGrid::build(sphere, params);
+  ASSERT_GT(grid.gradient_bound(), 0.9);
+  auto run = [&](bool culling, int* near_bone, int* clear_of_bone) {
+    BoxBlockScene scene = make_box_block_scene(2e-3);
+    scene.solver.contact_culling = culling;
+    Collider bone;
+    bone.kind = ColliderKind::kSdfGrid;
+    bone.sdf = &grid;
+    scene.statics.push_back(bone);
+    Nucleus n(scene.nucleus, scene.solver, scene.gravity, scene.statics);
+    *near_bone = *clear_of_bone = 0;
+    for (const Vec3& x : n.positions()) {
+      const double d = signed_distance(bone, x, nullptr);
+      *near_bone += d < 2.0 * n.spacing_m();        // within the wall range (2.5 h): hits
+      *clear_of_bone += d > 4.0 * n.spacing_m();    // beyond it and the margin: skipped
+    }
+    Collider blade = scene.blade;
+    blade.linear_velocity_m_s = Vec3(-0.05, 0, -0.05);
+    BodyReaction reaction;
+    for (int s = 0; s < 40; ++s) {
+      NumericalReport r;
+      n.step(1e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
+      EXPECT_TRUE(r.ok) << s;
+      blade.pose.position += 1e-3 * blade.linear_velocity_m_s;
+    }
+    return n.state_hash();
+  };
+  int near_on = 0, clear_on = 0, near_off = 0, clear_off = 0;
+  const std::uint64_t with_skips = run(true, &near_on, &clear_on);
+  EXPECT_EQ(with_skips, run(false, &near_off, &clear_off));
+  EXPECT_GT(near_on, 10);   // the bone is in the material's way
+  EXPECT_GT(clear_on, 100);  // and most of the block is clear of it
 }
 
 // Determinism: the same scene and inputs give bit-identical states, and the state after a fixed
