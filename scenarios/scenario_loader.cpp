@@ -130,6 +130,9 @@ void read_material(ObjectReader& r, MaterialConfig& m) {
   if (auto v = r.quantity(speed("rebond_speed"), Need::kOptional, Range::closed(1e-6, 1.0))) {
     m.rebond_speed_m_s = *v;
   }
+  if (auto v = r.number("surface_tension_N_m", Need::kOptional, Range::closed(0.0, 1.0), "N/m")) {
+    m.surface_tension_N_m = *v;
+  }
   if (auto v = r.boolean("counts_as_target", Need::kOptional)) m.counts_as_target = *v;
   r.finish();
 }

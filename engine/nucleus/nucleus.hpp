@@ -88,7 +88,8 @@ class Nucleus {
   void set_gravity(const Vec3& gravity_m_s2);
   std::size_t pair_count() const;               ///< interaction pairs in the last step
   /// Mechanical energy, J: kinetic + gravitational (zero at the origin) + bond springs +
-  /// pressure (kappa V C^2 / 2 with C from the last step's pressures). Without driving it can
+  /// pressure (kappa V C^2 / 2 with C from the last step's pressures) + surface tension
+  /// between torn faces (surface_tension.hpp). Without driving it can
   /// only decrease (backward Euler and viscosity dissipate); the stress suite checks that.
   double mechanical_energy_J() const;
   double kinetic_energy_J() const;

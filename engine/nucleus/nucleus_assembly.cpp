@@ -12,6 +12,7 @@
 
 #include "engine/nucleus/nucleus_math.hpp"
 #include "engine/nucleus/nucleus_stages.hpp"
+#include "engine/nucleus/surface_tension.hpp"
 
 namespace acdr::nucleus {
 namespace {
@@ -203,8 +204,16 @@ void pair_terms(const NucleusModel& model, const ReformedBonds& reformed,
   PairKernel* kern = pairs.kernel.data();
   const std::int32_t* rnear = pairs.row_near.data();
   const std::int32_t* rfar = pairs.row_far.data();
+  // Surface tension between pieces of one material that no built bond joins (none, or a
+  // re-formed one): its rising part implicit, like a bond's (surface_tension.hpp).
+  const std::int32_t* global = step.global.data();
+  const double* tension = model.tension_force.data();
+  const std::uint8_t* material = model.material.data();
+  const double h = model.h, R = model.tension_reach;
   for (std::size_t i = 0; i < step.awake_end; ++i) {
     const double hv_i = hv[i], pf_i = pf[i], pc_i = pc[i];
+    const double tension_i = model.surface_tension ? tension[global[i]] : 0.0;
+    const std::uint8_t material_i = material[global[i]];
     Vec3 rhs_i = Vec3::Zero();
     Vec3 q_i = Vec3::Zero();
     double d0 = 0.0, d1 = 0.0, d2 = 0.0, d3 = 0.0, d4 = 0.0, d5 = 0.0;
@@ -219,6 +228,11 @@ void pair_terms(const NucleusModel& model, const ReformedBonds& reformed,
         const double k = b < nb ? bk[b] : rk[b - nb];
         a += dt2 * k;
         fs += dt * k * (pr[p] - (b < nb ? brest[b] : rrest[b - nb]));
+      }
+      if (tension_i > 0.0 && (b < 0 || b >= nb) && material[global[j]] == material_i) {
+        const SurfaceTensionForce t = surface_tension_force(pr[p], h, R, tension_i);
+        a += dt2 * std::max(t.stiffness, 0.0);
+        fs += dt * t.force;
       }
       const Vec3 f = fs * nn;
       rhs_i += f;
@@ -245,6 +259,13 @@ void pair_terms(const NucleusModel& model, const ReformedBonds& reformed,
         const double k = b < nb ? bk[b] : rk[b - nb];
         a += dt2 * k;
         const Vec3 f = (dt * k * (pr[p] - (b < nb ? brest[b] : rrest[b - nb]))) * nn;
+        rhs_i += f;
+        rhs[j] -= f;
+      }
+      if (tension_i > 0.0 && (b < 0 || b >= nb) && material[global[j]] == material_i) {
+        const SurfaceTensionForce t = surface_tension_force(pr[p], h, R, tension_i);
+        a += dt2 * std::max(t.stiffness, 0.0);
+        const Vec3 f = (dt * t.force) * nn;
         rhs_i += f;
         rhs[j] -= f;
       }

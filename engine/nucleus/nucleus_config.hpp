@@ -32,6 +32,12 @@ struct MaterialConfig {
   double rebond_time_s = 0.0;
   /// "At rest relative to the neighbours": no neighbour's distance changes faster than this.
   double rebond_speed_m_s = 1.0e-3;
+  /// Surface tension of the material's torn faces, N/m: two of its particles that no built
+  /// bond joins (the pieces of a cut) attract each other between the lattice spacing and the
+  /// bond radius, with the work of separating them that of making two faces of h^2
+  /// (engine/nucleus/surface_tension.hpp). 0: none (the seed's model). Water's is 0.070 N/m
+  /// at 37 degC (docs/references.md).
+  double surface_tension_N_m = 0.0;
 };
 
 /// Shapes of particle regions other than a box, for the disc space.

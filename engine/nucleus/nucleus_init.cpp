@@ -12,6 +12,7 @@
 #include "engine/nucleus/neighbor_grid.hpp"
 #include "engine/nucleus/nucleus_math.hpp"
 #include "engine/nucleus/nucleus_stages.hpp"
+#include "engine/nucleus/surface_tension.hpp"
 
 namespace acdr::nucleus {
 namespace {
@@ -111,6 +112,9 @@ void build_particle_constants(NucleusModel& model, const NucleusParticleSetup& s
   model.mass.resize(n);
   model.mu.resize(n);
   model.kappa.resize(n);
+  model.tension_force.resize(n);
+  model.surface_tension = false;
+  model.tension_reach = std::min(model.bond_radius, model.radius);
   for (std::size_t i = 0; i < n; ++i) {
     model.material[i] = static_cast<std::uint8_t>(
         std::min<std::size_t>(model.material[i], model.config.materials.size() - 1));
@@ -118,6 +122,9 @@ void build_particle_constants(NucleusModel& model, const NucleusParticleSetup& s
     model.mass[i] = mat.density_kg_m3 * model.volume;
     model.mu[i] = mat.viscosity_Pa_s;
     model.kappa[i] = mat.bulk_modulus_Pa;
+    model.tension_force[i] =
+        surface_tension_peak_force(mat.surface_tension_N_m, model.h, model.tension_reach);
+    model.surface_tension = model.surface_tension || model.tension_force[i] > 0.0;
   }
   model.fixed_list.clear();
   for (std::size_t i = 0; i < n; ++i)

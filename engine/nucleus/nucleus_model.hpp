@@ -95,6 +95,8 @@ struct NucleusModel {
   double cache_turn_cos = 1.0;   // cos of half the wall-sum cache's turn limit
   double bond_radius = 1.5e-3;   // particles closer than this may bond (build; re-bonding), m
   bool rebonding = false;        // some material re-bonds (MaterialConfig::rebond_time_s > 0)
+  bool surface_tension = false;  // some particle's material has a surface tension
+  double tension_reach = 1.5e-3;  // the surface tension's reach: min(bond radius, R), m
 
   LatticeSites sites;
   WallTable wall_table;  // flat-face wall sums over d
@@ -104,6 +106,7 @@ struct NucleusModel {
   std::vector<double> mass;              // kg
   std::vector<double> mu;                // viscosity, Pa s
   std::vector<double> kappa;             // bulk modulus, Pa
+  std::vector<double> tension_force;     // surface tension's peak pair force F_c, N (0: none)
   std::vector<std::uint8_t> material;    // index into config.materials
   std::vector<std::uint8_t> fixed;       // 1 = kinematic (moves at its prescribed velocity)
   std::vector<std::int32_t> fixed_list;  // the fixed particles, ascending

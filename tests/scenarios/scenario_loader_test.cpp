@@ -82,8 +82,8 @@ TEST(ScenarioLoader, BoxModuleLoadsWithSiValues) {
   EXPECT_DOUBLE_EQ(mat.viscosity_Pa_s, 250.0);
   EXPECT_DOUBLE_EQ(mat.bond_stiffness_N_m, 5.0);
   EXPECT_NEAR(mat.bond_break_m, 0.3e-3, kTol);
-  EXPECT_NEAR(mat.rebond_time_s, 0.05, 1e-12);  // cohesion on in the box module
-  EXPECT_NEAR(mat.rebond_speed_m_s, 1e-3, 1e-12);
+  EXPECT_DOUBLE_EQ(mat.surface_tension_N_m, 0.5);  // torn faces pull together in the box module
+  EXPECT_EQ(mat.rebond_time_s, 0.0);                // (instead of re-bonding)
   EXPECT_TRUE(mat.counts_as_target);
   ASSERT_EQ(w.nucleus.blocks.size(), 1u);
   EXPECT_TRUE(w.nucleus.blocks[0].min_m.isApprox(Vec3(-0.015, -0.010, 0.0)));
@@ -136,6 +136,8 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.nucleus.materials[0].rebond_speed_m_s, 0.002, 1e-12);
   EXPECT_NEAR(w.nucleus.materials[1].rebond_time_s, 0.03, 1e-12);
   EXPECT_NEAR(w.nucleus.materials[1].rebond_speed_m_s, 0.003, 1e-12);
+  EXPECT_NEAR(w.nucleus.materials[0].surface_tension_N_m, 0.07, 1e-12);
+  EXPECT_EQ(w.nucleus.materials[1].surface_tension_N_m, 0.0);  // default: none
   EXPECT_FALSE(w.nucleus.materials[1].counts_as_target);
   EXPECT_EQ(w.nucleus.blocks[1].material, 1);  // by name
   EXPECT_EQ(w.instrument.shape, InstrumentShape::kCupCurette);
