@@ -85,6 +85,7 @@ def module_geometry(module):
         "grip_mm": c4c5_waypoints.cup_to_grip(inst["shaft_length_mm"], inst["cup_diameter_mm"],
                                               inst["cup_wall_mm"]),
         "time_limit_s": module.get("time_limit_s", 0),
+        "nucleus_viscosity_Pa_s": materials[nucleus["material"]].get("viscosity_Pa_s", 300.0),
         # The virtual coupling (engine/rigid/instrument_config.hpp defaults): what a hand's push
         # on the grip and its turn of the stylus become at the cup.
         "coupling_N_m": world.get("coupling", {}).get("stiffness_N_m", 500.0),
@@ -296,8 +297,30 @@ EXPERTS_90 = {
 }
 
 
-def novices(reference, time_limit_s):
-    """The same five kinds of error for every anatomical module."""
+# The degenerated nucleus (module 03: 3000 Pa*s, ten times the healthy gel) drags on the cup ten
+# times as hard: at the paces above every expert warned of the shaft's overload (0.31-0.45 N*m
+# against the 0.196 N*m warning), at pace 1.0 still 5 times (0.223 N*m); at 1.5 the first eight
+# scoops of expert_2 peaked at 0.154 N*m. So in a stiff nucleus the experts take their time and
+# fewer scoops, mostly in the lower half: the stiff gel lifts the cup, and the reference plan's
+# upper-half scoops came within 0.27 mm of C4's endplate (its warning band is 0.3 mm).
+EXPERTS_VISCOUS = {
+    "expert_1": ("the front, the lower half of the middle and the sides, six unhurried scoops "
+                 "in the stiff gel", 1.5, [F1, F2, M2, M3, L1, L2]),
+    "expert_2": ("the front, the middle and the sides, six scoops", 1.45,
+                 [F1, F2, M1, M2, L1, L2]),
+    "expert_3": ("front to back in two rows, the lower half, six scoops", 1.5,
+                 [F1, M2, B2, F2, M3, B3]),
+    "expert_4": ("seven scoops, the quickest the stiff gel allows", 1.45,
+                 [F1, F2, M2, M3, L1, L2, LF1]),
+    "expert_5": ("the lower half, front to back, then a side, six scoops", 1.55,
+                 [F_LOW, M2, M3, B2, B3, LB1]),
+}
+VISCOUS_PA_S = 1000.0  # a target gel above this gets EXPERTS_VISCOUS
+
+
+def novices(reference, time_limit_s, slow_pace=1.6):
+    """The same five kinds of error for every anatomical module (the hesitant one at slow_pace,
+    slower than the module's experts)."""
     # Too slow: the reference plan at the pace 1.6 with a pause before each scoop; the time limit
     # runs out after a few scoops.
     slow = []
@@ -318,16 +341,20 @@ def novices(reference, time_limit_s):
         "novice_scrape": ("one clean scoop, then the cup pressed down through the cartilage "
                           "into the C5 endplate with %g N and scraped along and across its "
                           "middle" % SCRAPE_FORCE_N, 0.75, [F1, SCRAPE()]),
-        "novice_slow": ("hesitation: the reference plan at pace 1.6, pausing 6 s over the "
-                        "window before each scoop; the time limit (%g s) ends it" % time_limit_s,
-                        1.6, slow),
+        "novice_slow": ("hesitation: the reference plan at pace %g, pausing 6 s over the "
+                        "window before each scoop; the time limit (%g s) ends it"
+                        % (slow_pace, time_limit_s), slow_pace, slow),
     }
 
 
 def plans_for(module_path, g):
     experts = EXPERTS_90 if g["time_limit_s"] and g["time_limit_s"] < 100 else EXPERTS_120
+    slow_pace = 1.6
+    if g["nucleus_viscosity_Pa_s"] > VISCOUS_PA_S:
+        experts = EXPERTS_VISCOUS
+        slow_pace = 2.4  # the experts there work at 1.45-1.55
     plans = dict(experts)
-    plans.update(novices(REFERENCE, g["time_limit_s"]))
+    plans.update(novices(REFERENCE, g["time_limit_s"], slow_pace))
     return plans
 
 
