@@ -106,12 +106,14 @@ ScoreResult score_attempt(const Metrics& metrics, const Rubric& rubric) {
                   rubric.pass_score);
     std::string reason = text;
     // Name what pulled it down: the terms two or more expert SDs on the wrong side of the
-    // experts' mean (time, removal, force, ...), worst first, at most three.
+    // experts' mean (time, removal, force, ...), worst first, at most three. Terms withheld for
+    // want of the task count too: an attempt that ran out of time with too little removed is
+    // told it was slow, not only that it removed too little.
     std::vector<std::pair<double, std::string>> weak;
     for (std::size_t i = 0; i < rubric.terms.size(); ++i) {
       const RubricTerm& term = rubric.terms[i];
       const TermScore& ts = r.terms[i];
-      if (ts.withheld || metrics.find(term.metric) == nullptr) continue;
+      if (metrics.find(term.metric) == nullptr) continue;
       const double sd = term.expert_sd > 0 ? term.expert_sd : 1.0;
       double z = (ts.value - term.expert_mean) / sd;
       if (!term.higher_is_better) z = -z;

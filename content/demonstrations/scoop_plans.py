@@ -85,6 +85,11 @@ def module_geometry(module):
         "grip_mm": c4c5_waypoints.cup_to_grip(inst["shaft_length_mm"], inst["cup_diameter_mm"],
                                               inst["cup_wall_mm"]),
         "time_limit_s": module.get("time_limit_s", 0),
+        "nucleus_viscosity_Pa_s": materials[nucleus["material"]].get("viscosity_Pa_s", 300.0),
+        # The virtual coupling (engine/rigid/instrument_config.hpp defaults): what a hand's push
+        # on the grip and its turn of the stylus become at the cup.
+        "coupling_N_m": world.get("coupling", {}).get("stiffness_N_m", 500.0),
+        "coupling_Nm_rad": world.get("coupling", {}).get("rot_stiffness_Nm_rad", 0.5),
         # The posterior wall of the bodies (engine/anatomy/vertebra_generator.cpp: half the body
         # depth behind the centre), the front face of the spinal cord / PLL zone.
         "body_back_z": -0.5 * morph.get("body_depth_mm", 16.1),
@@ -137,6 +142,23 @@ class Placement:
 
     def above(self, h):  # h mm above the front of the bodies
         return self.g["body_front_z"] + h
+
+    def press(self, force_N):
+        """The cup-centre height, the rise of its depth and the roll (deg) of a hand that presses
+        the cup down on the middle of the C5 endplate with force_N, the shaft upright: the grip
+        pushed force_N / ks past where the cup stops, and the stylus rolled so the rotational
+        coupling carries the moment force_N * L of that push about the cup (kr * roll =
+        force_N * L), as a wrist does. Without the roll the weak rotational coupling
+        (0.5 N*m/rad) lets the shaft tilt, and the cup bears with only ks kr / (kr + ks L^2),
+        some 65 N/m, of the push. The grip stays at the upright shaft's height (the rolled
+        pose's cup row is L (1 - cos roll) higher, else the coupling would push the cup toward
+        the back of the disc). The cup row is where that pose would put the cup if nothing
+        stopped it."""
+        g = self.g
+        roll = force_N * g["grip_mm"] * 1e-3 / g["coupling_Nm_rad"]
+        touch = 0.5 * g["disc_height"] - g["cup_r"]  # the cup's bottom on the endplate's middle
+        y = touch + 1e3 * force_N / g["coupling_N_m"] + g["grip_mm"] * math.sin(roll)
+        return -y, g["grip_mm"] * (1.0 - math.cos(roll)), -math.degrees(roll)
 
     def artery(self, x, y, z):  # millimetres from the left artery's axis (x, z)
         return (self.g["artery_x"] + x, y, self.g["artery_z"] + z)
@@ -220,18 +242,24 @@ def LEVER():
     ])
 
 
+SCRAPE_FORCE_N = 1.5  # what the novice presses the cup into the endplate with
+
+
 def SCRAPE():
-    # Presses the cup up against the C4 endplate and scrapes along it, across and back: y is
-    # mm below the C4 endplate (the cup's top 1.35 mm into the bone).
-    return ("endplate_rows", "scraping the C4 endplate", [
-        (1.0, (-0.7, None, None), (0, 0, 0), "above the window"),
-        (1.0, (-0.7, 0.0, 0.2), (0, 0, 0), "into the disc"),
-        (0.8, (-0.7, 1.35, 0.2), (0, 0, 0), "pressed up into the C4 endplate"),
-        (1.5, (0.7, 1.35, 0.2), (0, 0, 0), "scraping across it"),
-        (1.2, (0.7, 1.35, -0.45), (0, 0, 0), "and back along it"),
-        (1.5, (-0.7, 1.35, -0.45), (0, 0, 0), "and across again"),
-        (0.8, (-0.7, 0.0, -0.45), (0, 0, 0), "off the endplate"),
-        (1.0, (-0.7, None, None), (0, 0, 0), "withdrawal"),
+    # Presses the cup down through the cartilage into the C5 endplate with SCRAPE_FORCE_N and
+    # drags it along and across the endplate's middle: rows with "press" for y are pressed
+    # (Placement.press). C5's superior endplate is a saddle, lowest in the middle, so the cup
+    # pressed into it stays there; pressed up into C4's inferior endplate, convex from side to
+    # side, it slides off sideways (it did: out past the uncinate process).
+    return ("press_rows", "scraping the C5 endplate", [
+        (1.0, (-0.3, None, None), "above the window"),
+        (1.0, (-0.3, 0.0, 0.2), "into the disc"),
+        (0.8, (-0.3, "press", 0.2), "pressed down through the cartilage into the C5 endplate"),
+        (1.5, (-0.3, "press", -0.45), "scraping along it, front to back"),
+        (0.8, (0.3, "press", -0.45), "across"),
+        (1.5, (0.3, "press", 0.2), "and along it again, back to front"),
+        (0.8, (0.3, 0.0, 0.2), "off the endplate"),
+        (1.0, (0.3, None, None), "withdrawal"),
     ])
 
 
@@ -269,8 +297,30 @@ EXPERTS_90 = {
 }
 
 
-def novices(reference, time_limit_s):
-    """The same five kinds of error for every anatomical module."""
+# The degenerated nucleus (module 03: 3000 Pa*s, ten times the healthy gel) drags on the cup ten
+# times as hard: at the paces above every expert warned of the shaft's overload (0.31-0.45 N*m
+# against the 0.196 N*m warning), at pace 1.0 still 5 times (0.223 N*m); at 1.5 the first eight
+# scoops of expert_2 peaked at 0.154 N*m. So in a stiff nucleus the experts take their time and
+# fewer scoops, mostly in the lower half: the stiff gel lifts the cup, and the reference plan's
+# upper-half scoops came within 0.27 mm of C4's endplate (its warning band is 0.3 mm).
+EXPERTS_VISCOUS = {
+    "expert_1": ("the front, the lower half of the middle and the sides, six unhurried scoops "
+                 "in the stiff gel", 1.5, [F1, F2, M2, M3, L1, L2]),
+    "expert_2": ("the front, the middle and the sides, six scoops", 1.45,
+                 [F1, F2, M1, M2, L1, L2]),
+    "expert_3": ("front to back in two rows, the lower half, six scoops", 1.5,
+                 [F1, M2, B2, F2, M3, B3]),
+    "expert_4": ("seven scoops, the quickest the stiff gel allows", 1.45,
+                 [F1, F2, M2, M3, L1, L2, LF1]),
+    "expert_5": ("the lower half, front to back, then a side, six scoops", 1.55,
+                 [F_LOW, M2, M3, B2, B3, LB1]),
+}
+VISCOUS_PA_S = 1000.0  # a target gel above this gets EXPERTS_VISCOUS
+
+
+def novices(reference, time_limit_s, slow_pace=1.6):
+    """The same five kinds of error for every anatomical module (the hesitant one at slow_pace,
+    slower than the module's experts)."""
     # Too slow: the reference plan at the pace 1.6 with a pause before each scoop; the time limit
     # runs out after a few scoops.
     slow = []
@@ -288,18 +338,23 @@ def novices(reference, time_limit_s):
         "novice_lever": ("one clean scoop, then levering on the shaft (roll 24 deg each way) "
                          "with the cup deep in the disc: the shaft bears on the endplate rims",
                          0.75, [F1, LEVER()]),
-        "novice_scrape": ("three clean scoops, then the cup pressed against the C4 endplate "
-                          "and scraped across and along it", 0.75, [F1, F2, M1, SCRAPE()]),
-        "novice_slow": ("hesitation: the reference plan at pace 1.6, pausing 6 s over the "
-                        "window before each scoop; the time limit (%g s) ends it" % time_limit_s,
-                        1.6, slow),
+        "novice_scrape": ("one clean scoop, then the cup pressed down through the cartilage "
+                          "into the C5 endplate with %g N and scraped along and across its "
+                          "middle" % SCRAPE_FORCE_N, 0.75, [F1, SCRAPE()]),
+        "novice_slow": ("hesitation: the reference plan at pace %g, pausing 6 s over the "
+                        "window before each scoop; the time limit (%g s) ends it"
+                        % (slow_pace, time_limit_s), slow_pace, slow),
     }
 
 
 def plans_for(module_path, g):
     experts = EXPERTS_90 if g["time_limit_s"] and g["time_limit_s"] < 100 else EXPERTS_120
+    slow_pace = 1.6
+    if g["nucleus_viscosity_Pa_s"] > VISCOUS_PA_S:
+        experts = EXPERTS_VISCOUS
+        slow_pace = 2.4  # the experts there work at 1.45-1.55
     plans = dict(experts)
-    plans.update(novices(REFERENCE, g["time_limit_s"]))
+    plans.update(novices(REFERENCE, g["time_limit_s"], slow_pace))
     return plans
 
 
@@ -367,7 +422,12 @@ def cup_rows(plan, g):
             kind, what, rows = m
             out.append("# %d: %s" % (n, what))
             cup = last
-            for dt, (x, y, z), rpy, note in rows:
+            for r in rows:
+                if kind == "press_rows":
+                    dt, (x, y, z), note = r
+                    rpy = (0, 0, 0)
+                else:
+                    dt, (x, y, z), rpy, note = r
                 if kind == "artery_rows":
                     cup = p.artery(x, y, z)
                 else:
@@ -381,8 +441,10 @@ def cup_rows(plan, g):
                     else:
                         zz = p.depth(z)
                     yy = 0.0 if y is None else y
-                    if kind == "endplate_rows" and y is not None and y > 0:
-                        yy = 0.5 * g["disc_height"] - g["cup_r"] + y
+                    if y == "press":
+                        yy, rise, roll = p.press(SCRAPE_FORCE_N)
+                        zz += rise
+                        rpy = (round(roll, 1), 0, 0)
                     cup = (xx, yy, zz)
                 row(dt * pace, cup, rpy, note)
             row(b[4], (cup[0], 0.0, clear), (0, 0, 0), "")

@@ -197,5 +197,25 @@ TEST(Scoring, TimeIsEarnedOnlyByDoingTheTask) {
   EXPECT_EQ(s.terms[1].score, 100.0);
 }
 
+// An attempt that hesitates until the time limit ends it, with too little removed: its time
+// scores nothing for want of the task, and the reason still says it was slow.
+TEST(Scoring, ASlowAttemptWithoutTheTaskIsToldItWasSlow) {
+  Rubric r;
+  r.terms.push_back({"nucleus_removed_fraction", 0.6, 0.1, true, 2.0});
+  r.terms.push_back({"duration_s", 80.0, 3.0, false, 1.0});
+  r.task = TaskRule{"nucleus_removed_fraction", 0.45};
+  Metrics slow;
+  slow.set("nucleus_removed_fraction", 0.35);
+  slow.set("duration_s", 90.0);
+  const ScoreResult s = score_attempt(slow, r);
+  EXPECT_FALSE(s.task_done);
+  EXPECT_TRUE(s.terms[1].withheld);
+  ASSERT_EQ(s.reasons.size(), 2u);
+  EXPECT_NE(s.reasons[1].find("Duration (s) 90 against the experts' 80 ± 3 (3.3 SD above)"),
+            std::string::npos)
+      << s.reasons[1];
+  EXPECT_NE(s.reasons[1].find("(2.5 SD below)"), std::string::npos) << s.reasons[1];
+}
+
 }  // namespace
 }  // namespace acdr

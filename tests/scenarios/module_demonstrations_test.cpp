@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <map>
 #include <regex>
-#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -94,6 +93,14 @@ std::string joined(const std::vector<std::string>& reasons) {
   return s;
 }
 
+/// How scripts/demonstrations calibrates the C4-C5 modules: the task counts as done from three
+/// quarters of the experts' mean removal (its `task_share`).
+CalibrationMethod cohort_method() {
+  CalibrationMethod method;
+  method.task_share = 0.75;
+  return method;
+}
+
 class ModuleDemonstrations : public testing::TestWithParam<const char*> {};
 
 TEST_P(ModuleDemonstrations, TheShippedRubricIsCalibratedOnTheExperts) {
@@ -103,7 +110,7 @@ TEST_P(ModuleDemonstrations, TheShippedRubricIsCalibratedOnTheExperts) {
   std::vector<Metrics> experts;
   for (const Demonstration& d : c.experts) experts.push_back(d.metrics);
   std::string error;
-  const auto calibration = calibrate(c.rubric, experts, {}, &error);
+  const auto calibration = calibrate(c.rubric, experts, cohort_method(), &error);
   ASSERT_TRUE(calibration) << error;
   const Rubric expected = apply_calibration(c.rubric, *calibration);
   // The file keeps four significant digits.
@@ -137,7 +144,7 @@ TEST_P(ModuleDemonstrations, EachExpertIsCleanAndPassesAlsoLeftOutOfTheCalibrati
     EXPECT_TRUE(s.passed) << d.name << ": " << s.score << ": " << joined(s.reasons);
   }
   std::string error;
-  const auto loo = leave_one_out(c.rubric, experts, {}, &error);
+  const auto loo = leave_one_out(c.rubric, experts, cohort_method(), &error);
   ASSERT_TRUE(loo) << error;
   for (const LeaveOneOut& l : *loo) {
     EXPECT_TRUE(l.score.passed) << c.experts[l.expert].name << " against the others: "
@@ -159,32 +166,20 @@ TEST_P(ModuleDemonstrations, DISABLED_EachExpertRemovesAtLeastFourFifthsOfTheNuc
 TEST_P(ModuleDemonstrations, EachNoviceFailsForItsOwnError) {
   const Cohort c = cohort_of(GetParam());
   if (!c.stale.empty()) GTEST_SKIP() << c.stale;
-  // What the reasons must name, by the kind of error in the file name.
+  // What the reasons must name (one of), by the kind of error in the file name: the hesitant
+  // attempt is told it was slow, or, where the experts' times spread wider than its lateness
+  // (03), that it did not remove enough to have done the task.
   const std::map<std::string, std::vector<std::string>> named = {
-      {"novice_drift", {"zone"}},
+      {"novice_drift", {"zone.vertebral_artery_left.warnings"}},
       {"novice_plunge", {"spinal cord / PLL"}},
       {"novice_lever", {"overload"}},
       {"novice_scrape", {"zone"}},
-      {"novice_slow", {"Duration (s)"}},
+      {"novice_slow", {"Duration (s)", "the task was not done (nucleus_removed_fraction"}},
       {"novice_corner", {"zone"}},
-  };
-  // Novices the calibrated rubric does not fail yet (docs/anatomy.md, "Demonstrations"): the
-  // experts of these cohorts bulge the posterior annulus by 14-18 mm³ and their shaft moments
-  // lie within 0.07 N·m, so an attempt that bulges less or levers less scores up to 100 on those
-  // safety terms, and one that stops early 100 on time. Listed so the test says when
-  // they start to fail (then take them out of the list), not to hide them.
-  const std::set<std::pair<std::string, std::string>> not_failed_yet = {
-      {"02_c4c5_healthy", "novice_drift"}, {"02_c4c5_healthy", "novice_slow"},
-      {"04_full_discectomy", "novice_slow"},
   };
   std::size_t kinds = 0;
   for (const Demonstration& d : c.novices) {
     const ScoreResult s = score_attempt(d.metrics, c.rubric);
-    if (not_failed_yet.count({GetParam(), d.name})) {
-      EXPECT_TRUE(s.passed) << GetParam() << "/" << d.name << " now fails (" << s.score
-                            << "): take it out of not_failed_yet";
-      continue;
-    }
     EXPECT_FALSE(s.passed) << d.name << ": " << s.score;
     const auto words = named.find(d.name);
     if (words == named.end()) {
@@ -193,17 +188,16 @@ TEST_P(ModuleDemonstrations, EachNoviceFailsForItsOwnError) {
     }
     ++kinds;
     const std::string why = joined(s.reasons);
-    for (const std::string& w : words->second)
-      EXPECT_NE(why.find(w), std::string::npos) << d.name << " fails, but not for '" << w << "': " << why;
+    const bool named_its_error = std::any_of(words->second.begin(), words->second.end(),
+                                             [&](const std::string& w) { return why.find(w) != std::string::npos; });
+    EXPECT_TRUE(named_its_error) << d.name << " fails, but not for '" << words->second.front() << "': " << why;
   }
   EXPECT_GE(kinds, 4u);
 }
 
-// 03's demonstrations are placed on the disc at its real size but not replayed yet (a cohort
-// takes 20-40 minutes of a loaded 2-core machine): add it here once scripts/demonstrations has
-// written its results.json and calibrated its rubric.
 INSTANTIATE_TEST_SUITE_P(C4C5, ModuleDemonstrations,
-                         testing::Values("02_c4c5_healthy", "04_full_discectomy"),
+                         testing::Values("02_c4c5_healthy", "03_c4c5_degenerated",
+                                         "04_full_discectomy"),
                          [](const testing::TestParamInfo<const char*>& info) {
                            return std::string(info.param).substr(3);
                          });

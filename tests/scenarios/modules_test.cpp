@@ -2,6 +2,8 @@
 // the spinal cord zone scores clearly below a clean run of the same removal (metrics measured
 // with content/demonstrations/02_c4c5_healthy/partial_clean_four and partial_zone_overshoot), and an attempt that
 // removes nothing earns no safety points.
+#include <string>
+
 #include <gtest/gtest.h>
 
 #include "assessment/scoring.hpp"
@@ -33,6 +35,12 @@ Metrics clean_four_scoops() {
   m.set("zone_over_limit_events", 0);
   m.set("never_events", 0);
   m.set("duration_s", 32.7);
+  for (const char* zone : {"vertebral_artery_left", "vertebral_artery_right", "nerve_root_left",
+                           "nerve_root_right", "spinal_cord_pll"})
+    m.set(std::string("zone.") + zone + ".warnings", 0);
+  // Measured before the bone was modelled: the experts' mean, the same for both runs below, so
+  // it does not move their difference.
+  m.set("endplate_peak_stress_MPa", 0.3754);
   return m;
 }
 
@@ -48,19 +56,21 @@ TEST(BundledModules, EnteringTheCordZoneScoresClearlyBelowACleanRunOfTheSameRemo
   zone.set("zone_over_limit_events", 3);
   zone.set("never_events", 1);
   zone.set("zone.spinal_cord_pll.never_event", 1);
+  zone.set("zone.spinal_cord_pll.warnings", 1);
   zone.set("duration_s", 35.6);
   const ScoreResult a = score_attempt(clean, rubric);
   const ScoreResult b = score_attempt(zone, rubric);
   EXPECT_TRUE(a.task_done);
   EXPECT_TRUE(b.task_done);
   // 15.2 points with the zone and material terms weighing 5 of 7; 13.3 since the time term
-  // (weight 1, both far quicker than a whole attempt) joined them.
-  EXPECT_GE(a.score - b.score, 13.0) << "clean " << a.score << ", zone " << b.score;
+  // (weight 1, both far quicker than a whole attempt) joined them; 11.8 since the endplate
+  // stress term (weight 1, the same for both) did.
+  EXPECT_GE(a.score - b.score, 11.5) << "clean " << a.score << ", zone " << b.score;
   EXPECT_FALSE(b.passed);
   // The gates say it too, whatever the composite.
   int failed_gates = 0;
   for (const GateResult& g : b.gates) failed_gates += !g.passed;
-  EXPECT_EQ(failed_gates, 2);  // zone_entries, zone_over_limit_events
+  EXPECT_EQ(failed_gates, 3);  // zone_entries, zone_over_limit_events, the cord zone's warnings
   for (const GateResult& g : a.gates) EXPECT_TRUE(g.passed) << g.metric;
 }
 

@@ -918,8 +918,11 @@ TEST(ScenarioLoaderBone, EveryKeyConvertsToSi) {
   EXPECT_DOUBLE_EQ(r.model->world.anatomy.bone_load_period_s, 0.02);
   EXPECT_DOUBLE_EQ(r.model->world.anatomy.bone_load_cell_m, 3e-3);
   // Turned off: the keys stay valid, nothing is sampled.
+  // (its rubric's term on the endplate stress goes with it: a bone metric needs the bone)
   const LoadResult off = load_scenario_text(
-      replace_once(healthy_module_text(), kBoneKeys, R"("bone": { "enabled": false, "element_size_mm": 2 })"),
+      replace_once(replace_once(healthy_module_text(), kBoneKeys,
+                                R"("bone": { "enabled": false, "element_size_mm": 2 })"),
+                   R"("metric": "endplate_peak_stress_MPa")", R"("metric": "peak_contact_force_N")"),
       "m.json");
   ASSERT_TRUE(off.ok()) << to_string(off.errors);
   EXPECT_FALSE(off.model->bone.enabled);

@@ -289,7 +289,7 @@ TEST(TraineeHud, ScoreScreenNamesTheZoneAndExplainsTheScale) {
       << s.zone_findings[0];
   int safety_rows = 0;
   for (const ScoreTableRow& r : s.rows) safety_rows += r.safety;
-  EXPECT_EQ(safety_rows, 4);
+  EXPECT_EQ(safety_rows, 5);  // moment, time and force-time near zones, annulus, endplate stress
   ASSERT_GE(s.scale.size(), 4u);
   EXPECT_NE(s.scale[0].find("50 = the experts' mean"), std::string::npos) << s.scale[0];
   EXPECT_NE(s.scale[0].find("10 points"), std::string::npos) << s.scale[0];
