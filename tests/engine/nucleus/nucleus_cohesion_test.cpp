@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/nucleus/nucleus.hpp"
+#include "tests/engine/nucleus/nucleus_test_scenes.hpp"
 #include "tests/support/counting_allocator.hpp"
 #include "verification/box_block_scene.hpp"
 
@@ -18,40 +19,13 @@ constexpr double kH = 1e-3;
 
 /// Two 2 x 2 x 2 cubes of bonded particles on a 1 mm lattice, side by side along x with one
 /// spacing between their facing layers (touching, unbonded), no gravity, at rest.
-struct TwoPieces {
-  NucleusConfig config;
-  SolverConfig solver;
-  NucleusParticleSetup setup;
-  std::vector<int> left, right;
-};
+using test::TwoPieces;
 
 TwoPieces two_pieces(double rebond_time_s) {
-  TwoPieces s;
-  s.config.spacing_m = kH;
   MaterialConfig m;
   m.rebond_time_s = rebond_time_s;
   m.rebond_speed_m_s = 1e-3;
-  s.config.materials = {m};
-  s.solver.sleep_enabled = false;
-  for (int piece = 0; piece < 2; ++piece)
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        for (int c = 0; c < 2; ++c) {
-          (piece == 0 ? s.left : s.right).push_back(static_cast<int>(s.setup.positions_m.size()));
-          s.setup.positions_m.push_back(kH * Vec3(2 * piece + a, b, c));
-        }
-  for (const auto* piece : {&s.left, &s.right})
-    for (const int i : *piece)
-      for (const int j : *piece)
-        if (i < j && (s.setup.positions_m[j] - s.setup.positions_m[i]).norm() < 1.5 * kH) {
-          NucleusParticleSetup::Bond bond;
-          bond.i = i;
-          bond.j = j;
-          bond.stiffness_N_m = m.bond_stiffness_N_m;
-          bond.break_stretch_m = m.bond_break_m;
-          s.setup.bonds.push_back(bond);
-        }
-  return s;
+  return test::two_pieces(m, kH, kH);
 }
 
 void run(Nucleus& n, int steps) {

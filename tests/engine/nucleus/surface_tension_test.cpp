@@ -10,7 +10,7 @@
 
 #include "engine/nucleus/nucleus.hpp"
 #include "engine/nucleus/surface_tension.hpp"
-#include "tests/support/counting_allocator.hpp"
+#include "tests/engine/nucleus/nucleus_test_scenes.hpp"
 #include "verification/box_block_scene.hpp"
 
 namespace acdr {
@@ -60,45 +60,14 @@ TEST(SurfaceTension, PairLawDoesTheWorkOfTwoFacesAndIsTheSlopeOfItsPotential) {
   EXPECT_EQ(surface_tension_peak_force(0.0, kH, kR), 0.0);
 }
 
-/// Two 2 x 2 x 2 cubes of bonded particles on a 1 mm lattice along x, their facing layers
-/// `gap` apart (unbonded), no gravity, at rest.
-struct TwoPieces {
-  NucleusConfig config;
-  SolverConfig solver;
-  NucleusParticleSetup setup;
-  std::vector<int> left, right;
-};
-
-TwoPieces two_pieces(double gamma_N_m, double gap) {
-  TwoPieces s;
-  s.config.spacing_m = kH;
+test::TwoPieces two_pieces(double gamma_N_m, double gap) {
   MaterialConfig m;
   m.surface_tension_N_m = gamma_N_m;
-  s.config.materials = {m};
-  s.solver.sleep_enabled = false;
-  for (int piece = 0; piece < 2; ++piece)
-    for (int a = 0; a < 2; ++a)
-      for (int b = 0; b < 2; ++b)
-        for (int c = 0; c < 2; ++c) {
-          (piece == 0 ? s.left : s.right).push_back(static_cast<int>(s.setup.positions_m.size()));
-          s.setup.positions_m.push_back(Vec3(piece * (kH + gap) + a * kH, b * kH, c * kH));
-        }
-  for (const auto* piece : {&s.left, &s.right})
-    for (const int i : *piece)
-      for (const int j : *piece)
-        if (i < j && (s.setup.positions_m[j] - s.setup.positions_m[i]).norm() < 1.5 * kH) {
-          NucleusParticleSetup::Bond bond;
-          bond.i = i;
-          bond.j = j;
-          bond.stiffness_N_m = m.bond_stiffness_N_m;
-          bond.break_stretch_m = m.bond_break_m;
-          s.setup.bonds.push_back(bond);
-        }
-  return s;
+  return test::two_pieces(m, kH, gap);
 }
 
 TEST(SurfaceTension, PiecesWithAGapPullTogetherWhileTheEnergyFalls) {
-  const TwoPieces s = two_pieces(kWater, 1.3 * kH);
+  const test::TwoPieces s = two_pieces(kWater, 1.3 * kH);
   Nucleus n(s.config, s.solver, Vec3::Zero(), {}, s.setup);
   const double start = n.positions()[s.right[0]].x() - n.positions()[s.left[4]].x();
   double energy = n.mechanical_energy_J();
@@ -125,7 +94,7 @@ TEST(SurfaceTension, PiecesWithAGapPullTogetherWhileTheEnergyFalls) {
 }
 
 TEST(SurfaceTension, WithoutItPiecesWithAGapStayApart) {
-  const TwoPieces s = two_pieces(0.0, 1.3 * kH);
+  const test::TwoPieces s = two_pieces(0.0, 1.3 * kH);
   Nucleus n(s.config, s.solver, Vec3::Zero(), {}, s.setup);
   for (int step = 0; step < 100; ++step) {
     NumericalReport r;
@@ -139,18 +108,9 @@ TEST(SurfaceTension, StepWithSurfaceTensionDoesNotAllocate) {
   BoxBlockScene scene = make_box_block_scene(2e-3);
   scene.nucleus.materials[0].surface_tension_N_m = 0.2;
   Nucleus n(scene.nucleus, scene.solver, scene.gravity, scene.statics);
-  Collider blade = scene.blade;
-  blade.linear_velocity_m_s = Vec3(0, 0, -0.1);
-  BodyReaction reaction;
-  NumericalReport r;
-  n.step(1e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
-  const long before = test_support::heap_allocations();
-  for (int s = 0; s < 100; ++s) {
-    blade.pose.position += 1e-3 * blade.linear_velocity_m_s;
-    n.step(1e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
-    ASSERT_TRUE(r.ok) << r.stage;
-  }
-  EXPECT_EQ(test_support::heap_allocations() - before, 0);
+  bool ok = false;
+  EXPECT_EQ(test::heap_allocations_while_cutting(n, scene.blade, 100, &ok), 0);
+  EXPECT_TRUE(ok);
   EXPECT_GT(n.broken_bond_count(), 0u);
 }
 
