@@ -39,14 +39,16 @@ std::string lower(std::string s) {
   return s;
 }
 
-/// Splits a line into whitespace-separated tokens.
+/// Splits a line into tokens separated by spaces and tabs (as the OBJ reader does: a form feed
+/// or another control character is part of a word).
 std::vector<std::string_view> tokens_of(std::string_view line) {
   std::vector<std::string_view> out;
+  auto blank = [](char c) { return c == ' ' || c == '\t'; };
   std::size_t i = 0;
   while (i < line.size()) {
-    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && blank(line[i])) ++i;
     const std::size_t start = i;
-    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && !blank(line[i])) ++i;
     if (i > start) out.push_back(line.substr(start, i - start));
   }
   return out;
@@ -330,6 +332,21 @@ std::optional<TriangleMesh> read_obj(std::string_view text, const std::string& n
     mesh.vertices.emplace_back(to_metres(v[i], scale), to_metres(v[i + 1], scale),
                                to_metres(v[i + 2], scale));
   }
+  // The statements were checked above, but the reader splits lines and words its own way (a
+  // bare carriage return ends a line for it, a form feed before "v" makes it no vertex): every
+  // index it produced is checked against the vertices it read before any is used.
+  const long vertex_count = static_cast<long>(mesh.vertices.size());
+  for (const tinyobj::shape_t& shape : reader.GetShapes())
+    for (const tinyobj::index_t& index : shape.mesh.indices)
+      if (index.vertex_index < 0 || index.vertex_index >= vertex_count) {
+        set_error(error, name + ": a face refers to vertex " +
+                             std::to_string(static_cast<long>(index.vertex_index) + 1) +
+                             ", but the OBJ reader found " + std::to_string(vertex_count) +
+                             " vertices (a line it did not read as the vertex or face it looks "
+                             "like? only spaces and tabs may separate words, and lines end with "
+                             "a line feed)");
+        return std::nullopt;
+      }
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const auto& idx = shape.mesh.indices;
     for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
