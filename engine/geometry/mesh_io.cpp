@@ -2,6 +2,7 @@
 #include "engine/geometry/mesh_io.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <cmath>
@@ -336,23 +337,23 @@ std::optional<TriangleMesh> read_obj(std::string_view text, const std::string& n
   // bare carriage return ends a line for it, a form feed before "v" makes it no vertex): every
   // index it produced is checked against the vertices it read before any is used.
   const long vertex_count = static_cast<long>(mesh.vertices.size());
-  for (const tinyobj::shape_t& shape : reader.GetShapes())
-    for (const tinyobj::index_t& index : shape.mesh.indices)
-      if (index.vertex_index < 0 || index.vertex_index >= vertex_count) {
-        set_error(error, name + ": a face refers to vertex " +
-                             std::to_string(static_cast<long>(index.vertex_index) + 1) +
-                             ", but the OBJ reader found " + std::to_string(vertex_count) +
-                             " vertices (a line it did not read as the vertex or face it looks "
-                             "like? only spaces and tabs may separate words, and lines end with "
-                             "a line feed)");
-        return std::nullopt;
-      }
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const auto& idx = shape.mesh.indices;
     for (std::size_t i = 0; i + 2 < idx.size(); i += 3) {
-      mesh.triangles.push_back({static_cast<std::uint32_t>(idx[i].vertex_index),
-                                static_cast<std::uint32_t>(idx[i + 1].vertex_index),
-                                static_cast<std::uint32_t>(idx[i + 2].vertex_index)});
+      std::array<std::uint32_t, 3> triangle;
+      for (int c = 0; c < 3; ++c) {
+        const long v = idx[i + c].vertex_index;
+        if (v < 0 || v >= vertex_count) {
+          set_error(error, name + ": a face refers to vertex " + std::to_string(v + 1) +
+                               ", but the OBJ reader found " + std::to_string(vertex_count) +
+                               " vertices: a line was not read as the statement it looks "
+                               "like (words are separated by spaces and tabs only, lines end "
+                               "with a line feed)");
+          return std::nullopt;
+        }
+        triangle[c] = static_cast<std::uint32_t>(v);
+      }
+      mesh.triangles.push_back(triangle);
     }
   }
   if (mesh.triangles.empty()) {

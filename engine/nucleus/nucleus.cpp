@@ -56,15 +56,12 @@
 // a millimetre per step cannot jump over a particle (the exit side is the side it came from).
 #include "engine/nucleus/nucleus.hpp"
 
-#include <algorithm>
 #include <cassert>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
-#include <vector>
 
 #include "engine/core/state_hash.hpp"
+#include "engine/nucleus/neighbor_grid.hpp"
 #include "engine/nucleus/nucleus_math.hpp"
 #include "engine/nucleus/nucleus_stages.hpp"
 #include "engine/nucleus/surface_tension.hpp"
@@ -74,61 +71,38 @@ namespace {
 
 constexpr double kMaxSpeed_m_s = 100.0;  // above this a particle is reported as a blow-up
 
-// Whether a built bond that is still intact joins particles i and j.
+// Whether an intact built bond joins particles i and j (a pair may hold more than one).
 bool built_bond_joins(const NucleusModel& model, const NucleusState& state, std::int32_t i,
                       std::int32_t j) {
   const BondTable& bonds = model.bonds;
   if (bonds.adj_start.empty()) return false;
   for (std::int32_t a = bonds.adj_start[i]; a < bonds.adj_start[i + 1]; ++a) {
     const std::int32_t b = bonds.adj[a];
-    if (bonds.other(b, i) == j) return state.bond_alive[b] != 0;
+    if (bonds.other(b, i) == j && state.bond_alive[b]) return true;
   }
   return false;
 }
 
 // The surface tension's potential (surface_tension.hpp) summed over the pairs it acts on:
-// particles of one material with a surface tension, closer than R, without an intact built
-// bond. Pairs are found on a grid of cells of side R (all pairs when an axis is periodic).
-// A diagnostic outside the step: it may allocate.
+// particles of one material with a surface tension, closer than its reach, without an intact
+// built bond. A diagnostic outside the step: it may allocate.
 double surface_tension_energy_J(const NucleusModel& model, const NucleusState& state) {
-  const std::size_t n = state.x.size();
   const double R = model.tension_reach;
+  NeighborGrid grid;
+  grid.reserve(state.x.size());
+  grid.build(state.x, R, model.options.periodic, model.options.periodic_min_m,
+             model.options.periodic_max_m);
   double e = 0.0;
-  auto pair = [&](std::size_t i, std::size_t j) {
-    if (model.material[i] != model.material[j] || !(model.tension_force[i] > 0.0)) return;
-    const double r = min_image(model, state.x[j] - state.x[i]).norm();
-    if (!(r < R)) return;
-    if (built_bond_joins(model, state, static_cast<std::int32_t>(i),
-                         static_cast<std::int32_t>(j)))
-      return;
-    e += nucleus::surface_tension_energy(r, model.h, R, model.tension_force[i]);
-  };
-  if (model.periodic) {
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = i + 1; j < n; ++j) pair(i, j);
-    return e;
-  }
-  auto cell = [&](const Vec3& x, int a) { return static_cast<std::int64_t>(std::floor(x[a] / R)); };
-  auto key = [](std::int64_t cx, std::int64_t cy, std::int64_t cz) {
-    const std::uint64_t m = (1u << 21) - 1;
-    return ((static_cast<std::uint64_t>(cx) & m) << 42) |
-           ((static_cast<std::uint64_t>(cy) & m) << 21) | (static_cast<std::uint64_t>(cz) & m);
-  };
-  std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells;
-  for (std::size_t i = 0; i < n; ++i)
-    if (model.tension_force[i] > 0.0)
-      cells[key(cell(state.x[i], 0), cell(state.x[i], 1), cell(state.x[i], 2))].push_back(i);
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < state.x.size(); ++i) {
     if (!(model.tension_force[i] > 0.0)) continue;
-    const std::int64_t cx = cell(state.x[i], 0), cy = cell(state.x[i], 1), cz = cell(state.x[i], 2);
-    for (std::int64_t dx = -1; dx <= 1; ++dx)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const auto it = cells.find(key(cx + dx, cy + dy, cz + dz));
-          if (it == cells.end()) continue;
-          for (const std::size_t j : it->second)
-            if (j > i) pair(i, j);
-        }
+    grid.for_each_candidate(i, [&](std::size_t j) {
+      if (j <= i || model.material[j] != model.material[i]) return;
+      const double r = min_image(model, state.x[j] - state.x[i]).norm();
+      if (!(r < R) || built_bond_joins(model, state, static_cast<std::int32_t>(i),
+                                       static_cast<std::int32_t>(j)))
+        return;
+      e += nucleus::surface_tension_energy(r, model.h, R, model.tension_force[i]);
+    });
   }
   return e;
 }

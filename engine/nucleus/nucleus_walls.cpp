@@ -155,11 +155,11 @@ class WallBuilder {
   void walls_of_every_particle() {
     // Static colliders per particle. A static collider whose lower distance bound (box gap,
     // the exact distance of a half-space, the bone's sampled distance less what it can change
-    // beyond a 1-Lipschitz bound over the margin) was at least wall_range + margin where the mask was
-    // found is at least wall_range away while the particle stays within the margin of that
-    // place (distances are 1-Lipschitz); when also the contact reach bound is inside the wall
-    // range (|v| dt <= wall_range - contact - 0.1 h), the test below would skip it, so it is
-    // left out without evaluating anything (bit-identical).
+    // beyond a 1-Lipschitz bound over the margin) was at least wall_range + margin where the
+    // mask was found is at least wall_range away while the particle stays within the margin of
+    // that place (distances are 1-Lipschitz); when also the contact reach bound is inside the
+    // wall range (|v| dt <= wall_range - contact - 0.1 h), the test below would skip it, so it
+    // is left out without evaluating anything (bit-identical).
     const double mask_margin = kStaticMaskMargin * model_.h;
     const double mask_margin2 = mask_margin * mask_margin;
     const double mask_far = wall_range_ * (1.0 + 1e-9) + 1e-6 * model_.h + mask_margin;

@@ -270,7 +270,9 @@ TEST(AcdrSchemaBounds, EveryExtremeIsRefusedOrRunsWithinFourGigabytes) {
     run_ok(doc, what);
     extremes_run += static_cast<int>(names.size());
   }
-  std::cout << "shard " << shard << "/" << shards << ": " << keys.size() << " numeric keys, " << refused + extremes_run << " extremes: " << refused
+  EXPECT_GT(refused + extremes_run, 0) << "shard " << shard << "/" << shards << " walked nothing";
+  std::cout << "shard " << shard << "/" << shards << ": " << keys.size() << " numeric keys, "
+            << refused + extremes_run << " extremes: " << refused
             << " refused by validate, " << extremes_run << " ran (" << shapes.size() << " vertebra shapes in "
             << groups.size() << " runs), " << ran << " runs (" << failed_numerically
             << " ended in a numerical failure); slowest run " << slowest << " s (" << slowest_case << ")\n";

@@ -12,8 +12,14 @@
 namespace acdr {
 namespace {
 
-// A record as an older program left it: `sql` run on a new file at `path`, outside Database.
-void write_old_record(const std::string& path, const std::string& sql) {
+/// Writes a record of schema `version` (its first `version` migrations, stamped as ours) with
+/// the rows of `rows_sql`, as an older acdr left it: run on a new file at `path`, outside
+/// Database.
+void write_old_record(const std::string& path, int version, const std::string& rows_sql) {
+  std::string sql;
+  for (int v = 0; v < version; ++v) sql += schema_migrations()[v].sql;
+  sql += "PRAGMA user_version = " + std::to_string(version) +
+         "; PRAGMA application_id = " + std::to_string(kApplicationId) + ";" + rows_sql;
   sqlite3* raw = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
   char* message = nullptr;
@@ -91,15 +97,12 @@ TEST(Schema, MigratesAVersion1RecordKeepingItsEvents) {
   const std::string path = dir.file("v1.sqlite");
   {
     const std::string sql =
-        std::string(schema_migrations()[0].sql) +
-        "PRAGMA user_version = 1; PRAGMA application_id = " + std::to_string(kApplicationId) +
-        ";"
         "INSERT INTO modules (id) VALUES ('m1');"
         "INSERT INTO attempts (uuid, registration, module_id, started_utc, heartbeat_utc, "
         "  writer_pid, writer_host) VALUES ('u1', 'r1', 'm1', 't', 't', 1, 'h');"
         "INSERT INTO events (attempt_id, seq, t_s, kind, zone, value) VALUES "
         "  (1, 0, 0.5, 'zone_warning', 'foramen_left', 1.5), (1, 1, 0.7, 'overload_warning', '', 0.3);";
-    ASSERT_NO_FATAL_FAILURE(write_old_record(path, sql));
+    ASSERT_NO_FATAL_FAILURE(write_old_record(path, 1, sql));
   }
   Database db = test::open_or_fail(path);
   EXPECT_EQ(db.pragma_int("user_version").value(), kSchemaVersion);
@@ -126,18 +129,15 @@ TEST(Schema, MigratesAVersion3RecordAddingTheRealTimeFactor) {
   test::TempDir dir;
   const std::string path = dir.file("v3.sqlite");
   {
-    std::string sql;
-    for (int v = 0; v < 3; ++v) sql += schema_migrations()[v].sql;
-    sql += "PRAGMA user_version = 3; PRAGMA application_id = " + std::to_string(kApplicationId) +
-           ";"
-           "INSERT INTO trainees (id, created_utc) VALUES ('t1', '2024-05-01T09:00:00.000Z');"
-           "INSERT INTO modules (id) VALUES ('m1');"
-           "INSERT INTO attempts (uuid, registration, trainee_id, module_id, status, "
-           "  started_utc, ended_utc, heartbeat_utc, duration_s, score, passed, writer_pid, "
-           "  writer_host) VALUES ('u1', 'r1', 't1', 'm1', 'completed', "
-           "  '2024-05-01T09:00:00.000Z', '2024-05-01T09:01:00.000Z', "
-           "  '2024-05-01T09:01:00.000Z', 60.0, 72.5, 1, 1, 'h');";
-    ASSERT_NO_FATAL_FAILURE(write_old_record(path, sql));
+    const std::string sql =
+        "INSERT INTO trainees (id, created_utc) VALUES ('t1', '2024-05-01T09:00:00.000Z');"
+        "INSERT INTO modules (id) VALUES ('m1');"
+        "INSERT INTO attempts (uuid, registration, trainee_id, module_id, status, "
+        "  started_utc, ended_utc, heartbeat_utc, duration_s, score, passed, writer_pid, "
+        "  writer_host) VALUES ('u1', 'r1', 't1', 'm1', 'completed', "
+        "  '2024-05-01T09:00:00.000Z', '2024-05-01T09:01:00.000Z', "
+        "  '2024-05-01T09:01:00.000Z', 60.0, 72.5, 1, 1, 'h');";
+    ASSERT_NO_FATAL_FAILURE(write_old_record(path, 3, sql));
   }
   Database db = test::open_or_fail(path);
   EXPECT_EQ(db.pragma_int("user_version").value(), kSchemaVersion);
