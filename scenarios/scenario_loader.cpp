@@ -299,6 +299,10 @@ void read_zone(ObjectReader& r, DangerZone& z) {
   // Which keys a zone needs depends on its shape (kRequiredHere: required for this item only).
   if (auto a = r.vector3(length("a"), point ? Need::kRequiredHere : Need::kOptional, kCoordinate)) z.a_m = *a;
   if (auto b = r.vector3(length("b"), shape == "capsule" ? Need::kRequiredHere : Need::kOptional, kCoordinate)) z.b_m = *b;
+  if (auto c = r.vector3(length("c"), Need::kOptional, kCoordinate)) {
+    z.c_m = *c;
+    z.bent = shape == "capsule";
+  }
   if (auto x = r.quantity(length("radius"), shape == "sphere" || shape == "capsule" ? Need::kRequiredHere : Need::kOptional,
                           Range::closed(0.1 * kMm, 50 * kMm))) {
     z.radius_m = *x;
@@ -306,6 +310,11 @@ void read_zone(ObjectReader& r, DangerZone& z) {
   if (auto e = r.vector3(length("half_extents"), shape == "box" ? Need::kRequiredHere : Need::kOptional,
                          Range::closed(0.1 * kMm, 100 * kMm))) {
     z.half_extents_m = *e;
+    if (z.radius_m > z.half_extents_m.minCoeff()) {
+      r.context().error(r.child("radius_mm"), "a box's rounding cannot exceed its smallest half extent (got " +
+                                                  format_number(z.radius_m / kMm) + " mm, expected at most " +
+                                                  format_number(z.half_extents_m.minCoeff() / kMm) + " mm)");
+    }
   }
   if (auto q = r.numbers("orientation_wxyz", Need::kOptional, 4)) {
     const Quat quat((*q)[0], (*q)[1], (*q)[2], (*q)[3]);

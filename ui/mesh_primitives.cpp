@@ -143,6 +143,23 @@ RenderMesh make_oriented_box(const Eigen::Vector3f& half_extents_m, const Eigen:
   return mesh;
 }
 
+RenderMesh make_rounded_box(const Eigen::Vector3f& half_extents_m, float rounding_m,
+                            const Eigen::Affine3f& pose, const Eigen::Vector4f& rgba, int segments) {
+  const Eigen::Vector3f h = half_extents_m.cwiseAbs();
+  const float r = std::clamp(rounding_m, 0.0f, h.minCoeff());
+  if (r <= 0.0f) return make_oriented_box(h, pose, rgba);
+  // A sphere of the rounding's radius with each octant moved out to its corner of the inner
+  // box: the triangles that straddle an axis plane stretch into the flat faces, and every
+  // vertex keeps its sphere normal, which is the rounded box's normal there.
+  RenderMesh mesh = make_sphere(Eigen::Vector3f::Zero(), r, rgba, segments);
+  const Eigen::Vector3f core = h - Eigen::Vector3f::Constant(r);
+  for (Eigen::Vector3f& v : mesh.vertices) {
+    for (int k = 0; k < 3; ++k) v[k] += v[k] > 0.0f ? core[k] : v[k] < 0.0f ? -core[k] : 0.0f;
+  }
+  mesh.pose = pose;
+  return mesh;
+}
+
 RenderMesh make_cylinder(const Eigen::Vector3f& a, const Eigen::Vector3f& b, float radius_m,
                          const Eigen::Vector4f& rgba, int segments, bool capped) {
   RenderMesh mesh;

@@ -23,6 +23,12 @@ RenderMesh make_box(const Eigen::Vector3f& min, const Eigen::Vector3f& max,
 RenderMesh make_oriented_box(const Eigen::Vector3f& half_extents_m, const Eigen::Affine3f& pose,
                              const Eigen::Vector4f& rgba = default_mesh_rgba());
 
+/// Box of the given half extents with its edges and corners rounded by `rounding_m` (at most
+/// the smallest half extent; 0 gives make_oriented_box), placed by `pose`.
+RenderMesh make_rounded_box(const Eigen::Vector3f& half_extents_m, float rounding_m,
+                            const Eigen::Affine3f& pose,
+                            const Eigen::Vector4f& rgba = default_mesh_rgba(), int segments = 32);
+
 /// Cylinder of radius `radius_m` from point `a` to point `b` (world frame), with flat end
 /// caps when `capped`. `segments` around (typically 24).
 RenderMesh make_cylinder(const Eigen::Vector3f& a, const Eigen::Vector3f& b, float radius_m,

@@ -118,10 +118,14 @@ void add_anatomy(RenderScene& scene, const Anatomy& anatomy, const Frame& frame,
         break;
       case ZoneShape::kCapsule:
         mesh = make_capsule(z.a_m.cast<float>(), z.b_m.cast<float>(), static_cast<float>(z.radius_m), rgba);
+        if (z.bent) {
+          append_mesh(mesh, make_capsule(z.b_m.cast<float>(), z.c_m.cast<float>(),
+                                         static_cast<float>(z.radius_m), rgba));
+        }
         break;
       case ZoneShape::kBox:
-        mesh = make_oriented_box(z.half_extents_m.cast<float>(),
-                                 to_affine(Pose{z.a_m, z.orientation}), rgba);
+        mesh = make_rounded_box(z.half_extents_m.cast<float>(), static_cast<float>(z.radius_m),
+                                to_affine(Pose{z.a_m, z.orientation}), rgba);
         if (n.find("cord") != std::string::npos) {
           // The cord itself inside the zone (the canal with its ligament and dura): an oval
           // about 12 x 7 mm across at C4-C5, drawn only, along the box's long axis (y).

@@ -215,8 +215,12 @@ double segment_segment_distance(const Vec3& p1, const Vec3& q1, const Vec3& p2, 
 double DangerZone::signed_distance(const Vec3& p) const {
   switch (shape) {
     case ZoneShape::kSphere: return sdf::sphere(p, a_m, radius_m);
-    case ZoneShape::kCapsule: return sdf::capsule(p, a_m, b_m, radius_m);
-    case ZoneShape::kBox: return sdf::box(orientation.conjugate() * (p - a_m), Vec3::Zero(), half_extents_m);
+    case ZoneShape::kCapsule: {
+      const double d = sdf::capsule(p, a_m, b_m, radius_m);
+      return bent ? std::min(d, sdf::capsule(p, b_m, c_m, radius_m)) : d;
+    }
+    case ZoneShape::kBox:
+      return sdf::box(orientation.conjugate() * (p - a_m), Vec3::Zero(), half_extents_m, radius_m);
     case ZoneShape::kSdfBand: {
       const Vec3 c = 0.5 * (region_min_m + region_max_m), e = 0.5 * (region_max_m - region_min_m);
       const double region = sdf::box(p, c, e);
@@ -238,7 +242,9 @@ double zone_collider_distance(const DangerZone& z, const Collider& c) {
       const Vec3 b = c.pose.apply(Vec3(0, 0, c.half_length_m));
       if (z.shape == ZoneShape::kCapsule || z.shape == ZoneShape::kSphere) {
         const Vec3 zb = z.shape == ZoneShape::kCapsule ? z.b_m : z.a_m;
-        return segment_segment_distance(a, b, z.a_m, zb) - z.radius_m - c.radius_m;
+        double d = segment_segment_distance(a, b, z.a_m, zb);
+        if (z.shape == ZoneShape::kCapsule && z.bent) d = std::min(d, segment_segment_distance(a, b, z.b_m, z.c_m));
+        return d - z.radius_m - c.radius_m;
       }
       return min_along_segment(z, a, b) - c.radius_m;
     }
@@ -285,21 +291,27 @@ std::vector<DangerZone> make_c4c5_zones(const SegmentParams& params, const Segme
     z.never_event = true;
     zones.push_back(z);
   }
-  // Exiting nerve roots: from the dura out through the intervertebral foramina.
+  // Exiting nerve roots: from the dura out through the intervertebral foramina, along the
+  // generated root's path (bent where it leaves the canal for the foramen).
   for (int s = 0; s < 2; ++s) {
     DangerZone z;
     z.name = std::string("nerve_root_") + side_name[s];
     z.shape = ZoneShape::kCapsule;
     z.a_m = l.nerve_root_m[s][0];
-    z.b_m = l.nerve_root_m[s][2];
+    z.b_m = l.nerve_root_m[s][1];
+    z.c_m = l.nerve_root_m[s][2];
+    z.bent = true;
     z.radius_m = zp.root_radius_m;
     z.warning_distance_m = zp.root_warning_m;
     z.force_limit_N = zp.root_force_limit_N;
     z.never_event = true;
     zones.push_back(z);
   }
-  // Spinal cord behind the posterior longitudinal ligament: the canal behind the disc and the
-  // bodies, from the back of the disc space to the laminae.
+  // Spinal cord behind the posterior longitudinal ligament: the dural sac filling the canal
+  // behind the disc and the bodies, from the back of the disc space to the laminae. Its front
+  // is the ligament, flat on the back of the bodies; its edges are rounded by a third of the
+  // canal's depth, as the sac rounds into the lateral recesses and under the laminae that
+  // close the canal behind (the canal is triangular, not square, in cross-section).
   {
     DangerZone z;
     z.name = "spinal_cord_pll";
@@ -307,6 +319,7 @@ std::vector<DangerZone> make_c4c5_zones(const SegmentParams& params, const Segme
     const double z0 = l.canal_back_z_m, z1 = l.body_back_z_m;
     z.a_m = Vec3(0.0, 0.5 * (y_top + y_bottom), 0.5 * (z0 + z1));
     z.half_extents_m = Vec3(l.canal_half_width_m - 1.0e-3, 0.5 * (y_top - y_bottom), 0.5 * (z1 - z0));
+    z.radius_m = (z1 - z0) / 3.0;
     z.warning_distance_m = zp.cord_warning_m;
     z.force_limit_N = zp.cord_force_limit_N;
     z.never_event = true;

@@ -26,8 +26,8 @@ inline constexpr double kZoneFarDistance = 0.02;
 
 enum class ZoneShape : std::uint8_t {
   kSphere,   ///< centre `a_m`, `radius_m`
-  kCapsule,  ///< segment `a_m`-`b_m`, `radius_m`
-  kBox,      ///< centre `a_m`, `half_extents_m`, `orientation`
+  kCapsule,  ///< segment `a_m`-`b_m`, `radius_m`; with `bent`, the path `a_m`-`b_m`-`c_m`
+  kBox,      ///< centre `a_m`, `half_extents_m`, `orientation`; edges rounded by `radius_m`
   kSdfBand,  ///< points within `band_m` of the surface of `sdf` (inside counts) and inside
              ///< the axis-aligned `region` box: e.g. an endplate of a vertebra
 };
@@ -39,7 +39,9 @@ struct DangerZone {
   ZoneShape shape = ZoneShape::kSphere;
   Vec3 a_m = Vec3::Zero();
   Vec3 b_m = Vec3::Zero();
-  double radius_m = 0.0;
+  Vec3 c_m = Vec3::Zero();  ///< kCapsule with `bent`: the path goes on from `b_m` to here
+  bool bent = false;
+  double radius_m = 0.0;    ///< sphere and capsule radius; a box's edge rounding (0: sharp)
   Vec3 half_extents_m = Vec3::Zero();
   Quat orientation = Quat::Identity();
   const SignedDistanceGrid* sdf = nullptr;  ///< kSdfBand; not owned (the World owns grids)

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <numbers>
 
@@ -62,6 +63,36 @@ TEST(DangerZone, ShapeDistances) {
   b.orientation = Quat(Eigen::AngleAxisd(0.5 * std::numbers::pi, Vec3::UnitZ()));  // x <-> y
   EXPECT_NEAR(b.signed_distance(Vec3(3, 0, 0)), 1.0, 1e-12);  // the 2 half extent now along x
   EXPECT_NEAR(b.signed_distance(Vec3(0, 0, 0)), -1.0, 1e-12);
+}
+
+TEST(DangerZone, BentCapsuleAndRoundedBox) {
+  // An L-shaped capsule: along x to the corner, then along y.
+  DangerZone c = capsule_zone(Vec3(0, 0, 0), Vec3(2, 0, 0), 0.5);
+  c.c_m = Vec3(2, 3, 0);
+  c.bent = true;
+  EXPECT_NEAR(c.signed_distance(Vec3(1, -1, 0)), 0.5, 1e-12);  // beside the first leg
+  EXPECT_NEAR(c.signed_distance(Vec3(3, 2, 0)), 0.5, 1e-12);   // beside the second leg
+  EXPECT_NEAR(c.signed_distance(Vec3(0, 3, 0)), 1.5, 1e-12);   // inside the L: nearer the second leg
+  c.bent = false;
+  EXPECT_NEAR(c.signed_distance(Vec3(3, 2, 0)), std::sqrt(5.0) - 0.5, 1e-12);  // the second leg gone
+  // The shaft against each leg is exact: a vertical shaft 1 beside the second leg.
+  c.bent = true;
+  const Collider v = shaft(Vec3(3.2, 1.5, -5), Vec3(3.2, 1.5, 5), 0.1);
+  EXPECT_NEAR(zone_collider_distance(c, v), 1.2 - 0.5 - 0.1, 1e-12);
+
+  // A 4 x 4 x 2 box with its edges rounded by 0.5: the faces stay, the corners recede.
+  DangerZone b;
+  b.shape = ZoneShape::kBox;
+  b.half_extents_m = Vec3(2, 2, 1);
+  b.radius_m = 0.5;
+  EXPECT_NEAR(b.signed_distance(Vec3(3, 0, 0)), 1.0, 1e-12);  // off a face: as a sharp box
+  EXPECT_NEAR(b.signed_distance(Vec3(0, 0, 0)), -1.0, 1e-12);
+  const Vec3 corner_dir = Vec3(1, 1, 1).normalized();
+  // Off a corner: from the rounded corner's centre (1.5, 1.5, 0.5), minus the rounding.
+  const Vec3 p = Vec3(1.5, 1.5, 0.5) + 2.0 * corner_dir;
+  EXPECT_NEAR(b.signed_distance(p), 2.0 - 0.5, 1e-12);
+  b.radius_m = 0.0;
+  EXPECT_NEAR(b.signed_distance(p), (p - Vec3(2, 2, 1)).norm(), 1e-12);
 }
 
 TEST(DangerZone, SdfBandIsBoneWithinItsRegion) {
@@ -193,6 +224,21 @@ TEST(DangerZone, GeneratedZonesSitWhereTheAnatomySays) {
   EXPECT_TRUE(out[0].warning) << out[0].distance_m;
   EXPECT_TRUE(zones[0].never_event);
   EXPECT_FALSE(zones[5].never_event);
+
+  // The roots follow the generated path through its three points; the cord zone's front is
+  // flat on the back of the bodies behind the disc, and its edges are rounded.
+  for (int s = 0; s < 2; ++s) {
+    const DangerZone& root = zones[2 + s];
+    EXPECT_TRUE(root.bent);
+    for (const Vec3& q : l.nerve_root_m[s]) EXPECT_NEAR(root.signed_distance(q), -root.radius_m, 1e-12);
+  }
+  const DangerZone& cord = zones[4];
+  EXPECT_GT(cord.radius_m, 3 * kMm);
+  EXPECT_NEAR(cord.signed_distance(Vec3(0, 0, l.body_back_z_m + 1 * kMm)), 1 * kMm, 1e-9);
+  EXPECT_NEAR(cord.signed_distance(Vec3(3 * kMm, 0, l.body_back_z_m + 1 * kMm)), 1 * kMm, 1e-9);
+  // At the front's lateral corner a sharp box would be 1 mm away; the rounded one is further.
+  const Vec3 corner(cord.a_m.x() + cord.half_extents_m.x(), 0, l.body_back_z_m + 1 * kMm);
+  EXPECT_GT(cord.signed_distance(corner), 2 * kMm);
 }
 
 }  // namespace
