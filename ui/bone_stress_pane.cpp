@@ -9,6 +9,7 @@
 #include <imgui.h>
 
 #include "ui/bone_stress_view.hpp"
+#include "ui/word_wrap.hpp"
 
 namespace acdr {
 namespace {
@@ -123,7 +124,7 @@ void draw_bone_stress_pane(BoneStressPane& pane, double* t_s) {
     pane.show_time(*t_s);
   }
   ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.62f, 0.64f, 0.68f, 1.0f));
-  ImGui::TextWrapped("sample at %.2f s, %.2f N on the bone%s. C4's lower endplate from below, "
+  text_wrapped("sample at %.2f s, %.2f N on the bone%s. C4's lower endplate from below, "
                      "C5's upper from above, anterior up; endplate peaks %.3g and %.3g MPa.",
                      pane.sample_t_s(), pane.sample_load_N(),
                      pane.sample_solved() ? "" : " (too little to solve: no stress)",

@@ -14,6 +14,7 @@
 #include "ui/plot_widgets.hpp"
 #include "ui/score_table_view.hpp"
 #include "ui/trainee_hud.hpp"
+#include "ui/word_wrap.hpp"
 
 namespace acdr {
 namespace {
@@ -139,7 +140,7 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
         }
         if (p->run.attempts > 0) {
           ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
-          ImGui::TextWrapped("%d tries, run %d/%d", p->run.attempts, p->run.consecutive_at_end,
+          text_wrapped("%d tries, run %d/%d", p->run.attempts, p->run.consecutive_at_end,
                              p->required_consecutive);
           ImGui::PopStyleColor();
         }
@@ -278,7 +279,7 @@ void draw_attempt_list(const DashboardModel& model, const DashboardTrainee& t,
       ImGui::TableNextColumn();
       ImGui::Text("%lld", static_cast<long long>(a.id));
       ImGui::TableNextColumn();
-      ImGui::TextWrapped("%s", short_time(a.started_utc).c_str());
+      text_wrapped("%s", short_time(a.started_utc).c_str());
       ImGui::TableNextColumn();
       if (a.score) ImGui::Text("%.1f", *a.score);
       ImGui::TableNextColumn();
@@ -286,7 +287,7 @@ void draw_attempt_list(const DashboardModel& model, const DashboardTrainee& t,
       ImGui::PushStyleColor(ImGuiCol_Text, !a.passed  ? ui_colors::kMuted
                                            : *a.passed ? ui_colors::kOk
                                                        : ui_colors::kDanger);
-      ImGui::TextWrapped("%s", !a.passed   ? attempt_status_name(a.status)
+      text_wrapped("%s", !a.passed   ? attempt_status_name(a.status)
                                : *a.passed ? "passed"
                                            : "not passed");
       ImGui::PopStyleColor();
@@ -302,12 +303,12 @@ void draw_metrics_table(const AttemptDrillDown& d) {
   draw_score_table("metrics", d.metric_rows);
   ImGui::PushTextWrapPos(0.0f);
   for (const std::string& z : d.zone_findings)
-    ImGui::TextColored(ui_colors::kDanger, "- Zones: %s", z.c_str());
+    text_colored_wrapped(ui_colors::kDanger, "- Zones: %s", z.c_str());
   for (const std::string& r : d.record.score_detail.reasons)
-    ImGui::TextColored(ui_colors::kWarning, "- %s", r.c_str());
+    text_colored_wrapped(ui_colors::kWarning, "- %s", r.c_str());
   if (ImGui::TreeNode("How to read the scores")) {
     ImGui::TextColored(ui_colors::kMuted, "50 = the experts' mean, 10 points per expert SD.");
-    for (const std::string& line : d.scale) ImGui::TextColored(ui_colors::kMuted, "%s", line.c_str());
+    for (const std::string& line : d.scale) text_colored_wrapped(ui_colors::kMuted, "%s", line.c_str());
     ImGui::TreePop();
   }
   ImGui::PopTextWrapPos();
@@ -435,11 +436,11 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
   const std::size_t i = d.frame_at(sel.replay_t_s);
   const Frame& f = r.frames[i];
   ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
-  ImGui::TextWrapped(
+  text_wrapped(
       "The instrument and its tip path (colour: force on the hand); particles are not "
       "recorded.");
   ImGui::PopStyleColor();
-  ImGui::TextWrapped("removed %.1f %%   hand %.2f N   tissue %.2f N   moment %.3f N·m",
+  text_wrapped("removed %.1f %%   hand %.2f N   tissue %.2f N   moment %.3f N·m",
                      100.0 * d.removed_fraction[i], d.hand_force_N[i], d.tissue_force_N[i],
                      f.bending_moment_Nm);
 
@@ -578,7 +579,7 @@ void draw_attempt(const AttemptDrillDown& d, DashboardSelection& sel) {
   }
   ImGui::SameLine();
   ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
-  ImGui::TextWrapped("  input %s, %.1f s, program %s, scenario %s", a.input_device.c_str(),
+  text_wrapped("  input %s, %.1f s, program %s, scenario %s", a.input_device.c_str(),
                      a.duration_s.value_or(0.0), a.program_version.c_str(),
                      a.scenario_hash.substr(0, 8).c_str());
   ImGui::PopStyleColor();
@@ -603,7 +604,7 @@ void draw_attempt(const AttemptDrillDown& d, DashboardSelection& sel) {
     ImGui::TextColored(ui_colors::kWarning, "Aborted: %s", a.abort_reason.c_str());
   if (!d.scenario_error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
-    ImGui::TextWrapped("Benchmarks and box outline unavailable: %s", d.scenario_error.c_str());
+    text_wrapped("Benchmarks and box outline unavailable: %s", d.scenario_error.c_str());
     ImGui::PopStyleColor();
   }
 
@@ -633,7 +634,7 @@ void draw_attempt(const AttemptDrillDown& d, DashboardSelection& sel) {
       draw_removed_plot(d, sel);
     } else {
       ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kWarning);
-      ImGui::TextWrapped("No replay: %s", d.recording_error.c_str());
+      text_wrapped("No replay: %s", d.recording_error.c_str());
       ImGui::PopStyleColor();
     }
     ImGui::EndChild();
@@ -650,7 +651,7 @@ void draw_attempt(const AttemptDrillDown& d, DashboardSelection& sel) {
         ImGui::EndChild();
       } else if (!d.bone_stress_note.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
-        ImGui::TextWrapped("No bone stress: %s", d.bone_stress_note.c_str());
+        text_wrapped("No bone stress: %s", d.bone_stress_note.c_str());
         ImGui::PopStyleColor();
       }
     }
@@ -692,7 +693,7 @@ void draw_dashboard(const DashboardModel& model, DashboardSelection& sel,
       draw_learning_curve(model, *t, sel, actions);
     } else {
       ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
-      ImGui::TextWrapped("Select a trainee for the learning curve.");
+      text_wrapped("Select a trainee for the learning curve.");
       ImGui::PopStyleColor();
     }
     ImGui::TableNextColumn();

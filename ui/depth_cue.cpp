@@ -10,6 +10,7 @@
 #include "engine/anatomy/anatomy.hpp"
 #include "ui/imgui_style.hpp"
 #include "ui/render_camera.hpp"
+#include "ui/word_wrap.hpp"
 
 namespace acdr {
 namespace {
@@ -168,7 +169,7 @@ void draw_depth_gauge(const DepthCue& cue, const ImVec2& display) {
   ImGui::Dummy(ImVec2(bar_w + 8, bar_h));
   const float wrap = width - 2 * ImGui::GetStyle().WindowPadding.x;
   ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + wrap);
-  ImGui::TextColored(tip_colour, "%s", depth_text(cue).c_str());
+  text_colored_wrapped(tip_colour, "%s", depth_text(cue).c_str());
   ImGui::PopTextWrapPos();
   ImGui::End();
 }

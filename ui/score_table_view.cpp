@@ -6,6 +6,7 @@
 #include <imgui.h>
 
 #include "ui/imgui_style.hpp"
+#include "ui/word_wrap.hpp"
 
 namespace acdr {
 namespace {
@@ -14,7 +15,7 @@ namespace {
 void cell_text(const ImVec4* color, const std::string& text) {
   ImGui::PushTextWrapPos(0.0f);
   if (color) ImGui::PushStyleColor(ImGuiCol_Text, *color);
-  ImGui::TextWrapped("%s", text.c_str());
+  text_wrapped("%s", text.c_str());
   if (color) ImGui::PopStyleColor();
   ImGui::PopTextWrapPos();
 }

@@ -10,6 +10,7 @@
 #include "assessment/zone_findings.hpp"
 #include "ui/imgui_style.hpp"
 #include "ui/score_table_view.hpp"
+#include "ui/word_wrap.hpp"
 
 namespace acdr {
 namespace {
@@ -213,7 +214,7 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
   ImGui::Begin("Module", nullptr, fixed | ImGuiWindowFlags_AlwaysAutoResize);
   ImGui::TextColored(ui_colors::kInfo, "%s", hud.title.c_str());
   ImGui::PushTextWrapPos(goal_width - 12.0f);
-  ImGui::TextUnformatted(hud.goal.c_str());
+  text_wrapped("%s", hud.goal.c_str());
   ImGui::PopTextWrapPos();
   ImGui::TextColored(ui_colors::kMuted, "Input: %s", hud.input_label.c_str());
   ImGui::End();
@@ -254,7 +255,7 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
   if (is_slow_motion(hud.realtime_factor)) {
     ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + ImGui::GetContentRegionAvail().x);
     ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kWarning);
-    ImGui::TextWrapped("%s", realtime_text(hud.realtime_factor).c_str());
+    text_wrapped("%s", realtime_text(hud.realtime_factor).c_str());
     ImGui::PopStyleColor();
     ImGui::PopTextWrapPos();
   } else if (hud.realtime_factor > 0) {
@@ -277,7 +278,7 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
     ImGui::PushTextWrapPos(width - ImGui::GetStyle().WindowPadding.x);
     for (const HudAlert& a : hud.alerts) {
       ImGui::PushStyleColor(ImGuiCol_Text, level_color(a.level));
-      ImGui::TextWrapped("%s %s", a.level == AlertLevel::kDanger ? "[!]" : "[~]", a.text.c_str());
+      text_wrapped("%s %s", a.level == AlertLevel::kDanger ? "[!]" : "[~]", a.text.c_str());
       ImGui::PopStyleColor();
     }
     ImGui::PopTextWrapPos();
@@ -381,11 +382,11 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
   // Every line wraps inside the window (window-local x), the long end reason and status too.
   ImGui::PushTextWrapPos(ImGui::GetContentRegionMax().x);  // inside a scrollbar too
   ImGui::TextColored(ui_colors::kInfo, "%s", s.title.c_str());
-  ImGui::Text("Ended: %s after %.1f s", s.end_reason.c_str(), s.duration_s);
+  text_wrapped("Ended: %s after %.1f s", s.end_reason.c_str(), s.duration_s);
   if (is_slow_motion(s.realtime_factor)) {
     ImGui::PushTextWrapPos(ImGui::GetContentRegionMax().x);  // inside a scrollbar too
     ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kWarning);
-    ImGui::TextWrapped("The simulation ran at %s", realtime_text(s.realtime_factor).c_str());
+    text_wrapped("The simulation ran at %s", realtime_text(s.realtime_factor).c_str());
     ImGui::PopStyleColor();
     ImGui::PopTextWrapPos();
   }
@@ -404,7 +405,7 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
   ImGui::PushTextWrapPos(ImGui::GetContentRegionMax().x);  // inside a scrollbar too
   auto bullet = [](const std::string& line) {
     ImGui::Bullet();
-    ImGui::TextUnformatted(line.c_str());
+    text_wrapped("%s", line.c_str());
   };
   if (!s.zone_findings.empty()) {
     ImGui::Spacing();
@@ -416,7 +417,7 @@ bool draw_score_screen(const ScoreScreenModel& s, const ImVec2& display) {
   for (const std::string& line : s.improvements) bullet(line);
   ImGui::Spacing();
   ImGui::TextColored(ui_colors::kMuted, "How to read the scores");
-  for (const std::string& line : s.scale) ImGui::TextColored(ui_colors::kMuted, "%s", line.c_str());
+  for (const std::string& line : s.scale) text_colored_wrapped(ui_colors::kMuted, "%s", line.c_str());
   ImGui::PopTextWrapPos();
   if (!s.status_line.empty()) {
     ImGui::Spacing();
