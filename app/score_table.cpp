@@ -59,6 +59,7 @@ std::vector<ScoreTableRow> score_table(const Metrics& metrics, const ScoreResult
   if (scope == ScoreTableScope::kAssessed) {
     for (const TermScore& t : score.terms) rows.push_back(scored_row(t, rubric));
     for (const GateResult& g : score.gates) rows.push_back(gated_row(g));
+    for (ScoreTableRow& row : rows) row.measured = metrics.find(row.metric) != nullptr;
     return rows;
   }
   for (const auto& [name, value] : metrics.values) {

@@ -34,6 +34,9 @@ struct ScoreTableRow {
   std::optional<RubricTerm> benchmark;  ///< kScored, when the rubric is known
   bool safety = false;    ///< kScored: a Risk & Safety term (earned only when the task was done)
   bool withheld = false;  ///< kScored: a safety term scored 0 because the task was not done
+  /// The attempt recorded the metric; when not, `value` is 0 and says nothing (a rubric that
+  /// names a metric the scene does not measure: scored 0, its gate failed).
+  bool measured = true;
 };
 
 /// Which metrics a table lists.

@@ -46,7 +46,10 @@ void draw_score_table(const char* id, const std::vector<ScoreTableRow>& rows) {
       case MetricJudgement::kNotAssessed: cell_text(&ui_colors::kMuted, r.label); break;
     }
     ImGui::TableNextColumn();
-    ImGui::Text("%.4g", r.value);
+    if (r.measured)
+      ImGui::Text("%.4g", r.value);
+    else
+      ImGui::TextColored(ui_colors::kMuted, "none");
     ImGui::TableNextColumn();
     const std::string benchmark = benchmark_text(r);
     cell_text(r.judgement == MetricJudgement::kScored && !r.benchmark ? &ui_colors::kMuted

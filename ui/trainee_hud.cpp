@@ -341,6 +341,7 @@ ScoreScreenModel make_score_screen(const ScenarioModel& scenario, const AttemptR
   for (const ScoreTableRow& row : s.rows) {
     if (row.good) continue;
     if (row.withheld) continue;  // said once by the reason below
+    if (!row.measured) continue;  // the reason below says it was not measured
     if (row.judgement == MetricJudgement::kScored && row.benchmark)
       s.improvements.push_back(row.label + ": yours " + format("%.3g", row.value) +
                                ", experts " + format("%.3g", row.benchmark->expert_mean) +

@@ -48,6 +48,20 @@ TEST(ScoreTable, AssessedRowsAreTheTermsThenTheGates) {
   EXPECT_EQ(rows[2].label, "Shaft overload warnings");
 }
 
+TEST(ScoreTable, AMetricTheAttemptDidNotRecordIsMarkedNotMeasured) {
+  Metrics metrics;
+  ScoreResult score;
+  failing_attempt(metrics, score);
+  // A gate on a zone the scene does not have: scoring failed it with the value 0.
+  score.gates.push_back({"zone.osteophyte.warnings", 0.0, 0.0, false});
+  const Rubric r = rubric();
+  const auto rows = score_table(metrics, score, &r, ScoreTableScope::kAssessed);
+  ASSERT_EQ(rows.size(), 4u);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_TRUE(rows[i].measured) << rows[i].metric;
+  EXPECT_FALSE(rows[3].measured);
+  EXPECT_FALSE(rows[3].good);
+}
+
 TEST(ScoreTable, AllMetricsRowsFollowTheRecordingsOrder) {
   Metrics metrics;
   ScoreResult score;

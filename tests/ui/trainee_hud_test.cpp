@@ -221,6 +221,9 @@ AttemptRun failing_run() {
   run.score.terms = {{"nucleus_removed_fraction", 0.05, 30.0}, {"peak_instrument_force_N", 1.0, 60.0}};
   run.score.gates = {{"overload_events", 2.0, 0.0, false}};
   run.score.reasons = {"composite score 31.0 is below the pass score 50.0"};
+  run.metrics.set("nucleus_removed_fraction", 0.05);
+  run.metrics.set("peak_instrument_force_N", 1.0);
+  run.metrics.set("overload_events", 2.0);
   Frame last;
   last.t_s = 60.0;
   run.record.frames.push_back(last);
