@@ -113,9 +113,8 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
     for (int c = 0; c < columns; ++c) {
       ImGui::TableSetColumnIndex(c);
       ImGui::TableSetBgColor(ImGuiTableBgTarget_CellBg, ImGui::GetColorU32(ImGuiCol_TableHeaderBg));
-      ImGui::PushTextWrapPos(0.0f);
-      ImGui::TextUnformatted(ImGui::TableGetColumnName(c));
-      ImGui::PopTextWrapPos();
+      // Module ids break after their hyphens, not inside a word ("c4c5-healt" / "hy").
+      wrapped_label(ImGui::TableGetColumnName(c), "-");
     }
     for (const DashboardTrainee& t : model.trainees) {
       ImGui::TableNextRow();

@@ -12,27 +12,52 @@
 namespace acdr {
 
 std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
-                                             const std::function<float(std::string_view)>& measure) {
+                                             const std::function<float(std::string_view)>& measure,
+                                             std::string_view break_after) {
   std::vector<std::string_view> lines;
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t feed = text.find('\n', start);
     const std::string_view para =
         text.substr(start, feed == std::string_view::npos ? std::string_view::npos : feed - start);
-    // One paragraph: grow each line word by word while it fits.
+    // Where a line may end at or after `from`: before a space (dropped) or after one of
+    // `break_after` (kept); as (end of this line, start of the next).
+    const auto next_break = [&](std::size_t from) -> std::pair<std::size_t, std::size_t> {
+      for (std::size_t k = from; k < para.size(); ++k) {
+        if (para[k] == ' ') return {k, k + 1};
+        if (k + 1 < para.size() && break_after.find(para[k]) != std::string_view::npos) return {k + 1, k + 1};
+      }
+      return {para.size(), para.size()};
+    };
+    // One paragraph: each line takes at least one piece, then more while they fit.
     std::size_t line_begin = 0;
     while (true) {
-      std::size_t line_end = para.find(' ', line_begin);  // at least the first word
-      if (line_end == std::string_view::npos) line_end = para.size();
-      while (line_end < para.size()) {
-        std::size_t next = para.find(' ', line_end + 1);
-        if (next == std::string_view::npos) next = para.size();
-        if (measure(para.substr(line_begin, next - line_begin)) > width) break;
-        line_end = next;
+      auto [end, next] = next_break(line_begin);
+      if (measure(para.substr(line_begin, end - line_begin)) > width) {
+        // A piece wider than the line: as much of it as fits (at least one character, never
+        // inside a UTF-8 sequence), the rest on the next line.
+        std::size_t cut = line_begin + 1;
+        while (cut < end && (static_cast<unsigned char>(para[cut]) & 0xC0) == 0x80) ++cut;
+        for (std::size_t k = cut + 1; k < end; ++k) {
+          if ((static_cast<unsigned char>(para[k]) & 0xC0) == 0x80) continue;
+          if (measure(para.substr(line_begin, k - line_begin)) > width) break;
+          cut = k;
+        }
+        if (cut < end) {
+          lines.push_back(para.substr(line_begin, cut - line_begin));
+          line_begin = cut;
+          continue;
+        }
       }
-      lines.push_back(para.substr(line_begin, line_end - line_begin));
-      if (line_end >= para.size()) break;
-      line_begin = line_end + 1;  // the space at the break is dropped
+      while (end < para.size()) {
+        const auto [end2, next2] = next_break(next);
+        if (measure(para.substr(line_begin, end2 - line_begin)) > width) break;
+        end = end2;
+        next = next2;
+      }
+      lines.push_back(para.substr(line_begin, end - line_begin));
+      if (end >= para.size()) break;
+      line_begin = next;
     }
     if (feed == std::string_view::npos) break;
     start = feed + 1;
@@ -56,6 +81,12 @@ void draw_wrapped(const char* fmt, va_list args) {
     heap.resize(static_cast<std::size_t>(n));
     text = heap;
   }
+  wrapped_label(text);
+}
+
+}  // namespace
+
+void wrapped_label(std::string_view text, std::string_view break_after) {
   // The width TextWrapped would wrap at: the pushed wrap position, else the region's edge.
   ImGuiWindow* window = ImGui::GetCurrentWindow();
   const float wrap_pos = window->DC.TextWrapPos < 0.0f ? 0.0f : window->DC.TextWrapPos;
@@ -66,7 +97,7 @@ void draw_wrapped(const char* fmt, va_list args) {
   // One block, as TextWrapped draws it: after SameLine every line starts where the first did.
   std::string block;
   block.reserve(text.size() + 8);
-  const std::vector<std::string_view> lines = wrap_at_spaces(text, width, measure);
+  const std::vector<std::string_view> lines = wrap_at_spaces(text, width, measure, break_after);
   for (std::size_t i = 0; i < lines.size(); ++i) {
     if (i > 0) block += '\n';
     block.append(lines[i]);
@@ -75,8 +106,6 @@ void draw_wrapped(const char* fmt, va_list args) {
   ImGui::TextUnformatted(block.data(), block.data() + block.size());
   ImGui::PopTextWrapPos();
 }
-
-}  // namespace
 
 void text_wrapped(const char* fmt, ...) {
   va_list args;

@@ -13,10 +13,16 @@
 
 namespace acdr {
 
-/// Lines of `text` no wider than `width` by `measure`, broken at spaces (dropped at the break)
-/// and at line feeds; a word wider than `width` stands alone on its line.
+/// Lines of `text` no wider than `width` by `measure`, broken at spaces (dropped at the break),
+/// after any character of `break_after` (kept: "c4c5-" / "healthy") and at line feeds; only a
+/// piece wider than `width` by itself is cut where the width ends.
 std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
-                                             const std::function<float(std::string_view)>& measure);
+                                             const std::function<float(std::string_view)>& measure,
+                                             std::string_view break_after = {});
+
+/// `text` as is (no formatting), wrapped like text_wrapped, also breaking after any character
+/// of `break_after` (e.g. "-" for identifiers such as module ids).
+void wrapped_label(std::string_view text, std::string_view break_after = {});
 
 /// ImGui::TextWrapped's replacement: printf-style text wrapped at spaces at the current text
 /// wrap position (PushTextWrapPos), or the content region's right edge when none is set.

@@ -25,16 +25,29 @@ TEST(WordWrap, BreaksAtSpacesOnlyAndKeepsNumbersWhole) {
 }
 
 TEST(WordWrap, LineFeedsLongWordsAndEmptyText) {
-  const auto lines = wrap_at_spaces("a b\nunbreakable-word c", 5.0f, chars);
-  ASSERT_EQ(lines.size(), 3u);
+  const auto lines = wrap_at_spaces("a b\nunbreakable c", 5.0f, chars);
+  ASSERT_EQ(lines.size(), 4u);
   EXPECT_EQ(lines[0], "a b");
-  EXPECT_EQ(lines[1], "unbreakable-word");  // wider than the width: alone on its line
-  EXPECT_EQ(lines[2], "c");
+  EXPECT_EQ(lines[1], "unbre");  // wider than the line by itself: cut where the width ends
+  EXPECT_EQ(lines[2], "akabl");
+  EXPECT_EQ(lines[3], "e c");
   EXPECT_EQ(wrap_at_spaces("", 5.0f, chars).size(), 1u);
   EXPECT_EQ(wrap_at_spaces("fits", 5.0f, chars).size(), 1u);
   const auto blank = wrap_at_spaces("x\n\ny", 5.0f, chars);
   ASSERT_EQ(blank.size(), 3u);
   EXPECT_EQ(blank[1], "");
+}
+
+TEST(WordWrap, IdentifiersBreakAfterTheirHyphens) {
+  const auto lines = wrap_at_spaces("4. c4c5-full-discectomy", 10.0f, chars, "-");
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0], "4. c4c5-");
+  EXPECT_EQ(lines[1], "full-");
+  EXPECT_EQ(lines[2], "discectomy");
+  // Without the hyphen rule the id is one piece, cut where the width ends.
+  EXPECT_EQ(wrap_at_spaces("4. c4c5-full-discectomy", 10.0f, chars)[1], "c4c5-full-");
+  // A hyphen before a space gives one break, not an empty line.
+  EXPECT_EQ(wrap_at_spaces("a- b", 2.0f, chars, "-").size(), 2u);
 }
 
 TEST(WordWrap, InTheImGuiFontANumberIsNotSplitWhereImGuiWouldSplitIt) {
