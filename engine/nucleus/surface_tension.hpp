@@ -21,15 +21,14 @@
 #pragma once
 
 #include <cmath>
+#include <numbers>
 
 namespace acdr::nucleus {
-
-inline constexpr double kPi = 3.14159265358979323846;
 
 /// F_c, the peak pair force (N), for surface tension gamma (N/m) on a lattice of spacing h with
 /// reach R (m); 0 when R <= h (no room between touching and out of reach).
 inline double surface_tension_peak_force(double gamma_N_m, double h, double R) {
-  return (gamma_N_m > 0.0 && R > h) ? kPi * gamma_N_m * h * h / (R - h) : 0.0;
+  return (gamma_N_m > 0.0 && R > h) ? std::numbers::pi * gamma_N_m * h * h / (R - h) : 0.0;
 }
 
 /// The attraction at distance r (N, > 0 pulls the pair together) and its slope dF/dr (N/m).
@@ -40,7 +39,7 @@ struct SurfaceTensionForce {
 
 inline SurfaceTensionForce surface_tension_force(double r, double h, double R, double peak) {
   if (!(r > h) || !(r < R)) return {};
-  const double w = kPi / (R - h);
+  const double w = std::numbers::pi / (R - h);
   const double phase = w * (r - h);
   return {peak * std::sin(phase), peak * w * std::cos(phase)};
 }
@@ -49,8 +48,8 @@ inline SurfaceTensionForce surface_tension_force(double r, double h, double R, d
 inline double surface_tension_energy(double r, double h, double R, double peak) {
   if (!(R > h) || !(r < R)) return 0.0;
   const double L = R - h;
-  if (!(r > h)) return -2.0 * peak * L / kPi;
-  return -peak * (L / kPi) * (1.0 + std::cos(kPi * (r - h) / L));
+  if (!(r > h)) return -2.0 * peak * L / std::numbers::pi;
+  return -peak * (L / std::numbers::pi) * (1.0 + std::cos(std::numbers::pi * (r - h) / L));
 }
 
 }  // namespace acdr::nucleus
