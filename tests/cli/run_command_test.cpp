@@ -229,13 +229,22 @@ TEST(RunCommandUdp, ASilentDeviceEndsTheAttemptAsDisconnected) {
   VirtualBridgeOptions faults;
   faults.silence_at_s = 0.5;
   faults.silence_for_s = 10.0;  // never comes back
+  const auto start = std::chrono::steady_clock::now();
   const UdpRun r = run_with_bridge(dir.file("r.sqlite"), faults, /*device_timeout_s=*/0.3);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.result["end"], "device disconnected");
   const auto kinds = event_kinds(r.result);
   EXPECT_TRUE(has(kinds, "input_lost"));
   EXPECT_TRUE(has(kinds, "device_disconnected"));
-  EXPECT_NEAR(r.result["duration_s"].get<double>(), 0.8, 0.15);
+  // The disconnect is declared on the wall clock: 0.3 s after the last pose, sent at 0.5 s,
+  // and long before the device would speak again (10.5 s). The simulated duration cannot
+  // exceed that (the physics never runs ahead of the clock), but on a loaded host it may fall
+  // behind, so only its upper bound is fixed.
+  EXPECT_GE(wall_s, 0.75);
+  EXPECT_LT(wall_s, 5.0);
+  EXPECT_GT(r.result["duration_s"].get<double>(), 0.0);
+  EXPECT_LE(r.result["duration_s"].get<double>(), 0.95);
   EXPECT_TRUE(r.bridge.attempt_over);
   EXPECT_EQ(r.bridge.attempt_over_reason, bridge::EndReason::kDisconnected);
 }
