@@ -67,9 +67,10 @@ void draw_trainee_list(const DashboardModel& model, DashboardSelection& sel,
     int mastered = 0;
     for (const ModuleProgress& p : t.progress) mastered += p.mastered;
     char label[200];
-    std::snprintf(label, sizeof label, "%s%s%s\n  %zu attempts, %d/%zu mastered",
+    std::snprintf(label, sizeof label, "%s%s%s\n  %zu %s, %d/%zu mastered",
                   t.info.id.c_str(), t.info.display_name.empty() ? "" : " - ",
-                  t.info.display_name.c_str(), t.attempts.size(), mastered, t.progress.size());
+                  t.info.display_name.c_str(), t.attempts.size(),
+                  t.attempts.size() == 1 ? "attempt" : "attempts", mastered, t.progress.size());
     if (ImGui::Selectable(label, sel.trainee_id == t.info.id)) {
       if (sel.trainee_id != t.info.id) {
         sel.trainee_id = t.info.id;
@@ -103,10 +104,22 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
   const int columns = 1 + static_cast<int>(model.modules.size());
   if (ImGui::BeginTable("progress", columns,
                         ImGuiTableFlags_Borders | ImGuiTableFlags_SizingStretchProp)) {
-    ImGui::TableSetupColumn("Trainee", ImGuiTableColumnFlags_WidthStretch, 0.8f);
-    for (const ModuleRecord& m : model.modules)
-      ImGui::TableSetupColumn((std::to_string(m.position) + ". " + m.id).c_str(),
-                              ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    // Each column stretches in proportion to its widest word (a header piece, a trainee id,
+    // a state), so a column narrower than the table's share still shows "degenerated" whole
+    // when the others can give it room.
+    const auto measure = [](std::string_view s) {
+      return ImGui::CalcTextSize(s.data(), s.data() + s.size()).x;
+    };
+    float trainee_width = measure("Trainee");
+    for (const DashboardTrainee& t : model.trainees)
+      trainee_width = std::max(trainee_width, measure(t.info.id));
+    ImGui::TableSetupColumn("Trainee", ImGuiTableColumnFlags_WidthStretch, trainee_width);
+    const float state_width = measure("in progress");
+    for (const ModuleRecord& m : model.modules) {
+      const std::string name = std::to_string(m.position) + ". " + m.id;
+      ImGui::TableSetupColumn(name.c_str(), ImGuiTableColumnFlags_WidthStretch,
+                              std::max(state_width, widest_piece(name, measure, "-")));
+    }
     // The header row drawn as wrapped text: with four modules beside the learning curve a
     // column is narrower than "4. c4c5-full-discectomy", and a header row would cut it.
     ImGui::TableNextRow(ImGuiTableRowFlags_Headers);
@@ -139,8 +152,8 @@ void draw_progress_matrix(const DashboardModel& model, DashboardSelection& sel,
         }
         if (p->run.attempts > 0) {
           ImGui::PushStyleColor(ImGuiCol_Text, ui_colors::kMuted);
-          text_wrapped("%d tries, run %d/%d", p->run.attempts, p->run.consecutive_at_end,
-                             p->required_consecutive);
+          text_wrapped("%d %s, run %d/%d", p->run.attempts, p->run.attempts == 1 ? "try" : "tries",
+                       p->run.consecutive_at_end, p->required_consecutive);
           ImGui::PopStyleColor();
         }
       }

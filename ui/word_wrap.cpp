@@ -65,6 +65,21 @@ std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
   return lines;
 }
 
+float widest_piece(std::string_view text, const std::function<float(std::string_view)>& measure,
+                   std::string_view break_after) {
+  float widest = 0.0f;
+  std::size_t begin = 0;
+  for (std::size_t k = 0; k <= text.size(); ++k) {
+    const bool end = k == text.size() || text[k] == ' ' || text[k] == '\n';
+    const bool after = !end && break_after.find(text[k]) != std::string_view::npos;
+    if (!end && !after) continue;
+    const std::size_t stop = after ? k + 1 : k;  // a break_after character stays on its line
+    if (stop > begin) widest = std::max(widest, measure(text.substr(begin, stop - begin)));
+    begin = k + 1;
+  }
+  return widest;
+}
+
 namespace {
 
 void draw_wrapped(const char* fmt, va_list args) {

@@ -20,6 +20,12 @@ std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
                                              const std::function<float(std::string_view)>& measure,
                                              std::string_view break_after = {});
 
+/// The width by `measure` of the widest piece of `text` that wrap_at_spaces never breaks (between
+/// spaces, line feeds and the characters of `break_after`): the narrowest line that shows
+/// `text` without cutting a word.
+float widest_piece(std::string_view text, const std::function<float(std::string_view)>& measure,
+                   std::string_view break_after = {});
+
 /// `text` as is (no formatting), wrapped like text_wrapped, also breaking after any character
 /// of `break_after` (e.g. "-" for identifiers such as module ids).
 void wrapped_label(std::string_view text, std::string_view break_after = {});

@@ -50,6 +50,20 @@ TEST(WordWrap, IdentifiersBreakAfterTheirHyphens) {
   EXPECT_EQ(wrap_at_spaces("a- b", 2.0f, chars, "-").size(), 2u);
 }
 
+TEST(WordWrap, TheWidestPieceIsTheNarrowestLineThatCutsNoWord) {
+  EXPECT_EQ(widest_piece("3. c4c5-degenerated", chars, "-"), 11.0f);  // "degenerated"
+  EXPECT_EQ(widest_piece("3. c4c5-degenerated", chars), 16.0f);       // "c4c5-degenerated"
+  EXPECT_EQ(widest_piece("a\nlonger b", chars), 6.0f);
+  EXPECT_EQ(widest_piece("", chars), 0.0f);
+  // At that width nothing is cut; one unit less, the widest piece is.
+  const std::string text = "4. c4c5-full-discectomy";
+  const float w = widest_piece(text, chars, "-");
+  for (auto line : wrap_at_spaces(text, w, chars, "-")) EXPECT_NE(line, "discectom");
+  bool cut = false;
+  for (auto line : wrap_at_spaces(text, w - 1.0f, chars, "-")) cut |= line == "discectom";
+  EXPECT_TRUE(cut);
+}
+
 TEST(WordWrap, InTheImGuiFontANumberIsNotSplitWhereImGuiWouldSplitIt) {
   std::string error;
   auto ui = ImGuiOffscreen::create(640, 200, &error);
