@@ -34,6 +34,8 @@ places every pass again on the new anatomy.
     python3 scoop_plans.py ../../scenarios/modules/02_c4c5_healthy.json expert_2 > expert_2.cup.csv
     python3 scoop_plans.py MODULE.json --write-dir DIR    # every plan: DIR/<name>.cup.csv and
                                                           # DIR/<name>.waypoints.csv
+    python3 scoop_plans.py MODULE.json pulls --moves 'F1,F2,P:0.75:0.6:-0.6' --pace 0.65 \
+        --write-dir DIR                                   # a trial plan: DIR/pulls.*.csv
 """
 import argparse
 import json
@@ -174,6 +176,16 @@ class Placement:
 # straight, wipe on the tray. +x is the patient's left.
 def S(what, u0, u1, y, v):
     return ("scoop", what, u0, u1, y, v)
+
+
+# A pull, as surgeons clear the disc space: plunge through the window to depth v (the cup's back
+# first), out to the lane at u along the back, then pull straight toward the surgeon along the
+# lane and out through the window. The angled cup's opening leans 45 deg toward the handle, so
+# it faces the lane's side and the pull; pitch (deg) turns it further toward the pull, the shaft
+# leaning toward the other side. A straight cup opens toward the lane's side. Measured on module
+# 02 and not used by the bundled plans (docs/anatomy.md, "The cohorts": what the plans cannot).
+def P(what, u, y, v, pitch=0):
+    return ("pull", what, u, y, v, pitch)
 
 
 # The front band (v 0.55, rows 2-4 mm in front of the centre), the middle (v 0), the back
@@ -358,6 +370,36 @@ def plans_for(module_path, g):
     return plans
 
 
+def parse_moves(text):
+    """Moves written on the command line (--moves), comma-separated: the names of this file's
+    scoops (F1, M2, L1, ...), REFERENCE for the reference plan's fourteen, S:u0:u1:y:v for a
+    scoop and P:u:y:v[:pitch] for a pull (the arguments of S and P)."""
+    named = {k: v for k, v in globals().items()
+             if isinstance(v, tuple) and v and v[0] == "scoop"}
+    moves = []
+    for item in (t.strip() for t in text.split(",")):
+        if not item:
+            continue
+        if item == "REFERENCE":
+            moves.extend(REFERENCE)
+        elif item in named:
+            moves.append(named[item])
+        elif item[:2] in ("S:", "P:"):
+            try:
+                args = [float(a) for a in item[2:].split(":")]
+            except ValueError:
+                args = []
+            count = (4,) if item[0] == "S" else (3, 4)
+            if len(args) not in count:
+                raise ValueError("--moves: '%s': expected %s numbers after '%s:'"
+                                 % (item, " or ".join(map(str, count)), item[0]))
+            moves.append((S if item[0] == "S" else P)(item, *args))
+        else:
+            raise ValueError("--moves: '%s': expected a scoop's name (%s), REFERENCE, S:u0:u1:y:v "
+                             "or P:u:y:v[:pitch]" % (item, ", ".join(sorted(named))))
+    return moves
+
+
 def fmt(t, cup, rpy, what):
     return "%.2f, %5.2f, %5.2f, %5.2f, %g, %g, %g   # %s" % (t, cup[0], cup[1], cup[2], *rpy, what)
 
@@ -418,6 +460,38 @@ def cup_rows(plan, g):
                     "sweep, clear of the posterior annulus")
             row(b[3], (x1, y, out_of_disc), (0, 0, yaw), "straight withdrawal")
             row(b[4], (x1, 0.0, clear), (0, 0, yaw), "")
+        elif m[0] == "pull":
+            _, what, u, y, v, pitch = m
+            side = 1.0 if u >= 0 else -1.0
+            # the opening toward the lane's side (and the surgeon, on the angled cup)
+            yaw = 0 if side > 0 else 180
+            rpy = (0, -pitch if g["angled"] else 0, yaw)
+            y = p.height(y)
+            z = p.depth(v)
+            x0 = max(-p.window, min(p.window, p.lateral(u, z)))
+            out.append("# pull %d: %s" % (n, what))
+            row(b[0], (x0, y, window), rpy, "above the window")
+            z0 = max(z, p.floor(x0))
+            if z0 < p.ease_from:
+                row(b[1], (x0, y, p.ease_from), rpy, "plunge, the cup's back first")
+                row(EASE_S * pace, (x0, y, z0), rpy, "ease back to the depth")
+            else:
+                row(b[1], (x0, y, z0), rpy, "plunge, the cup's back first")
+            x1 = p.lateral(u, z0)
+            zb = max(z0, p.floor(x1))
+            row(b[2] * 0.5, (x1, y, zb), rpy, "out to the lane, along the back")
+            # the pull: straight forward along the lane, the lane closing in to the window's
+            # edge where the nucleus narrows toward its front
+            steps = 4
+            zf = g["nucleus_cz"] + g["nucleus_b"]
+            for k in range(1, steps + 1):
+                zk = zb + (zf - zb) * k / steps
+                lim = max(p.reach(zk), p.window)
+                xk = g["nucleus_cx"] + side * min(abs(x1 - g["nucleus_cx"]), lim)
+                row(b[3] / steps, (xk, y, zk), rpy, "pull toward the surgeon" if k == 1 else "")
+            xk = g["nucleus_cx"] + side * min(abs(x1 - g["nucleus_cx"]), p.window)
+            row(b[2] * 0.5, (xk, y, out_of_disc), rpy, "on out through the window")
+            row(b[4], (xk, 0.0, clear), (0, 0, yaw), "")
         else:
             kind, what, rows = m
             out.append("# %d: %s" % (n, what))
@@ -476,10 +550,22 @@ def main():
     ap.add_argument("plan", nargs="?", help="one plan name (expert_N, novice_KIND)")
     ap.add_argument("--list", action="store_true", help="list the plans for this module")
     ap.add_argument("--write-dir", help="write every plan's .cup.csv and .waypoints.csv here")
+    ap.add_argument("--moves", help="a plan of these moves instead of the bundled ones (named "
+                    "PLAN, default 'trial'): e.g. 'F1,F2,P:0.75:0.6:-0.6' (parse_moves)")
+    ap.add_argument("--pace", type=float, default=0.65, help="the --moves plan's pace (0.65)")
     args = ap.parse_args()
     with open(args.module) as f:
         g = module_geometry(json.load(f))
     plans = plans_for(args.module, g)
+    if args.moves is not None:
+        try:
+            moves = parse_moves(args.moves)
+        except ValueError as e:
+            sys.stderr.write("%s\n" % e)
+            return 2
+        args.plan = args.plan or "trial"
+        plans = {args.plan: ("the moves %s at pace %g" % (args.moves, args.pace), args.pace,
+                             moves)}
     if args.list:
         for name, plan in plans.items():
             print("%-14s %s" % (name, plan[0]))
