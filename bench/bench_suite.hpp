@@ -29,6 +29,13 @@ struct BenchScene {
   /// false: the grid's finer and coarser lattices are not run on this scene (a scene whose
   /// lattice is the target itself: at x0.5 it would be eight times the particles).
   bool spacing_sweep = true;
+  /// Trajectory time every work-precision run (the reference's and each point's) starts at,
+  /// before its window: a time when the instrument is still outside the material, so that the
+  /// window starts from the state the run reached by itself, as in an attempt, not from a
+  /// fresh lattice with the instrument placed inside it. The lead (window_start_s - this,
+  /// rounded up to whole sample windows) is neither timed nor compared. < 0: from the
+  /// trajectory's start.
+  double run_from_s = -1.0;
 };
 
 /// What the benchmark runs: the grid of the work-precision diagram, the peer's sweep, the
