@@ -42,7 +42,7 @@ struct BenchScene {
 /// scaling lattices and the skip runs. `default_grid` gives the full and the quick grids.
 struct BenchGrid {
   double window_s = 1.5;             ///< simulated time of each work-precision run
-  double sample_s = 0.01;            ///< force windows compared between runs
+  double sample_s = 0.012;           ///< force windows compared between runs (RunWindow)
   double reference_dt_s = 0.5e-3;    ///< the converged reference: finest step ...
   double reference_tolerance = 1e-7; ///< ... tightest PCG tolerance
   int reference_max_iterations = 2000;

@@ -3,7 +3,8 @@
 // active particles, force checksum, state hash). A development tool, not a test.
 //   acdr_step_probe SCENARIO TRAJECTORY [duration_s] [spacing_mm] [tol] [max_it] [start_s] [sleep]
 // Environment: ACDR_PROBE_DT_MS (the step, ms), ACDR_PROBE_LEAD_S (simulated time run before
-// start_s, neither timed nor traced), ACDR_PROBE_TRACE (a CSV file for the force trace).
+// start_s, neither timed nor traced; a whole number of force windows), ACDR_PROBE_SAMPLE_S (the
+// force windows, s; default RunWindow's), ACDR_PROBE_TRACE (a CSV file for the force trace).
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
   if (argc > 8) s.sleep = std::atoi(argv[8]);
   if (const char* dt_ms = std::getenv("ACDR_PROBE_DT_MS")) s.dt_s = std::atof(dt_ms) * 1e-3;
   if (const char* lead = std::getenv("ACDR_PROBE_LEAD_S")) window.lead_s = std::atof(lead);
+  if (const char* sample = std::getenv("ACDR_PROBE_SAMPLE_S")) window.sample_s = std::atof(sample);
   const acdr::WorldConfig config = acdr::apply_settings(loaded.model->world, s);
   const acdr::RunTrace r = acdr::run_scene(config, *trajectory, window);
   double f_sum = 0.0, f_max = 0.0;
