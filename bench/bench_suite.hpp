@@ -71,7 +71,7 @@ struct BenchGrid {
   int timing_runs = 3;
 };
 
-/// The full grid, or the quick one (within two minutes on a 2-core machine).
+/// The full grid, or the quick one (about three minutes on a 2-core machine).
 BenchGrid default_grid(bool quick);
 
 struct BenchConfig {

@@ -12,7 +12,7 @@
 namespace acdr {
 
 struct BenchOptions {
-  bool quick = false;    ///< the small grid: within two minutes on a 2-core machine
+  bool quick = false;    ///< the small grid: about three minutes on a 2-core machine
   bool json = false;     ///< JSON on stdout instead of the table
   std::string csv;       ///< also write every figure as CSV here, when set
   std::string png = "bench_work_precision.png";  ///< the work-precision plot; empty: none
