@@ -50,7 +50,8 @@ nlohmann::json point_json(const WorkPoint& p) {
 void write_bench_table(const BenchReport& r, std::ostream& out) {
   out << "Work-precision (errors against each scene's reference run; windows:";
   for (const auto& [scene, w] : r.windows)
-    out << " " << scene << " " << num(w.start_s) << " s + " << num(w.duration_s) << " s";
+    out << " " << scene << " " << num(w.start_s) << " s + " << num(w.duration_s) << " s after "
+        << num(w.lead_s) << " s of lead";
   out << ")\n";
   out << std::left << std::setw(11) << "scene" << std::setw(8) << "solver" << std::setw(44)
       << "settings" << std::right << std::setw(8) << "N" << std::setw(9) << "links"
@@ -218,7 +219,8 @@ nlohmann::json bench_report_json(const BenchReport& r) {
   }
   doc["windows"] = nlohmann::json::object();
   for (const auto& [scene, w] : r.windows)
-    doc["windows"][scene] = {{"start_s", w.start_s}, {"duration_s", w.duration_s}};
+    doc["windows"][scene] = {
+        {"start_s", w.start_s}, {"duration_s", w.duration_s}, {"lead_s", w.lead_s}};
   doc["quick"] = r.quick;
   doc["machine"] = r.machine;
   doc["wall_s"] = r.wall_s;

@@ -241,6 +241,15 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
     l.window.start_s = s.window_start_s;
     l.window.duration_s = grid.window_s;
     l.window.sample_s = grid.sample_s;
+    const double from_s = s.run_from_s < 0.0 ? 0.0 : s.run_from_s;
+    if (from_s > l.window.start_s) {
+      *error = s.trajectory_path + ": the runs would start at " + fmt("%g", from_s) +
+               " s, after their window's start (" + fmt("%g", l.window.start_s) + " s)";
+      return false;
+    }
+    l.window.lead_s =
+        std::ceil((l.window.start_s - from_s) / grid.sample_s - 1e-9) * grid.sample_s;
+    if (l.window.lead_s > l.window.start_s + 1e-9) l.window.lead_s -= grid.sample_s;
     if (l.window.start_s + l.window.duration_s > l.trajectory.duration_s()) {
       *error = s.trajectory_path + ": the window " + fmt("%g", l.window.start_s) + " s + " +
                fmt("%g", l.window.duration_s) + " s runs past the trajectory's end (" +
@@ -261,7 +270,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
   for (Loaded& sc : scenes) {
     const WorldConfig& base = sc.world;
     const double h = base.nucleus.spacing_m;
-    const double steps = grid.window_s / 1e-3;
+    const double steps = (grid.window_s + sc.window.lead_s) / 1e-3;
     // Reference: the finest step and the tightest tolerance, at the scene's spacing.
     jobs.push_back(
         {sc.scene.name + ": reference " +
@@ -360,7 +369,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
              ps.position_iterations = it;
              ps.link_stiffness = 1.0;
              const RunTrace peer =
-                 run_bullet_peer(base, sc.trajectory.at(sc.window.start_s),
+                 run_bullet_peer(base, sc.trajectory.at(run_start_s(sc.window, grid.reference_dt_s)),
                                  sc.reference.instrument, sc.window, ps, progress);
              WorkPoint p = make_point(sc.scene.name, peer, sc.reference);
              p.solver = "bullet";
@@ -455,6 +464,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
   rep.skips_scene = first.scene.name;
   RunWindow skip_window = first.window;
   skip_window.start_s = std::max(0.0, first.window.start_s - grid.skip_lead_s);
+  skip_window.lead_s = 0.0;  // the skip runs compare and time their whole run
   skip_window.duration_s = grid.skip_window_s;
   const double skip_weight = grid.skip_window_s / 1e-3 * 0.7;
   RunTrace skip_path;  // the instrument path of a default run (undeclared-parts skip)

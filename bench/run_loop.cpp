@@ -18,6 +18,14 @@ double nearest_rank_percentile(std::vector<double>& values, double fraction) {
   return values[rank];
 }
 
+std::int64_t lead_step_count(const RunWindow& window, double dt_s) {
+  return window.lead_s > 0.0 ? run_step_count(window.lead_s, dt_s) : 0;
+}
+
+double run_start_s(const RunWindow& window, double dt_s) {
+  return window.start_s - double(lead_step_count(window, dt_s)) * dt_s;
+}
+
 std::int64_t run_step_count(double duration_s, double dt_s) {
   return static_cast<std::int64_t>(std::llround(duration_s / dt_s));
 }
@@ -26,11 +34,15 @@ std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& win
                             const std::function<LoopStep(std::int64_t)>& step,
                             const std::function<void(double)>& progress) {
   using Clock = std::chrono::steady_clock;
+  const std::int64_t lead = lead_step_count(window, dt_s);
   const std::int64_t steps = run_step_count(duration_s, dt_s);
+  const std::int64_t total = lead + steps;
   const auto windows = static_cast<std::size_t>(std::floor(duration_s / window.sample_s + 1e-9));
+  const auto lead_windows =
+      static_cast<std::size_t>(std::floor(double(lead) * dt_s / window.sample_s + 1e-9));
   out.t_s.reserve(windows);
   out.force_N.reserve(windows);
-  out.instrument.reserve(windows);
+  out.instrument.reserve(lead_windows + windows);
   std::vector<double> step_wall;  // timed steps' wall times, for the percentile
   step_wall.reserve(static_cast<std::size_t>(std::max<std::int64_t>(0, steps)));
   Vec3 f_sum = Vec3::Zero();
@@ -38,31 +50,41 @@ std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& win
   auto start = Clock::now();
   double cpu_start = thread_cpu_s();
   std::int64_t ran = 0;
-  for (std::int64_t k = 0; k < steps; ++k) {
-    if (k == window.warmup_steps && k > 0) {
+  for (std::int64_t k = 0; k < total; ++k) {
+    const std::int64_t kw = k - lead;  // step in the window (negative in the lead)
+    if (kw == window.warmup_steps) {
       start = Clock::now();
       cpu_start = thread_cpu_s();
     }
     const auto step_start = Clock::now();
     const LoopStep s = step(k);
     const double step_s = std::chrono::duration<double>(Clock::now() - step_start).count();
-    out.max_step_wall_s = std::max(out.max_step_wall_s, step_s);
-    if (k >= window.warmup_steps) step_wall.push_back(step_s);
-    ++ran;
-    f_sum += s.force_N;
-    ++f_count;
-    // Close a force window when this step ends on (or just past) its boundary.
-    const double t_rel = double(k + 1) * dt_s;
-    const double boundary = double(out.t_s.size() + 1) * window.sample_s;
-    if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt_s) {
-      out.t_s.push_back(boundary);
-      out.force_N.push_back(f_sum / f_count);
-      if (s.instrument) out.instrument.push_back(*s.instrument);
-      f_sum = Vec3::Zero();
-      f_count = 0;
+    if (kw >= 0) {
+      out.max_step_wall_s = std::max(out.max_step_wall_s, step_s);
+      if (kw >= window.warmup_steps) step_wall.push_back(step_s);
+      ++ran;
+    }
+    // The instrument's pose at every sample boundary from the run's start.
+    const double t_run = double(k + 1) * dt_s;
+    const double pose_boundary = double(out.instrument.size() + 1) * window.sample_s;
+    if (s.instrument && out.instrument.size() < lead_windows + windows &&
+        t_run >= pose_boundary - 1e-9 * dt_s)
+      out.instrument.push_back(*s.instrument);
+    if (kw >= 0) {
+      f_sum += s.force_N;
+      ++f_count;
+      // Close a force window when this step ends on (or just past) its boundary.
+      const double t_rel = double(kw + 1) * dt_s;
+      const double boundary = double(out.t_s.size() + 1) * window.sample_s;
+      if (out.t_s.size() < windows && t_rel >= boundary - 1e-9 * dt_s) {
+        out.t_s.push_back(boundary);
+        out.force_N.push_back(f_sum / f_count);
+        f_sum = Vec3::Zero();
+        f_count = 0;
+      }
     }
     if (s.stop) break;
-    if (progress && (k % 250 == 0)) progress(double(k) / double(steps));
+    if (progress && (k % 250 == 0)) progress(double(k) / double(total));
   }
   out.cpu_s = thread_cpu_s() - cpu_start;
   out.wall_s = std::chrono::duration<double>(Clock::now() - start).count();

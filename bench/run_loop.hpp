@@ -27,11 +27,14 @@ double nearest_rank_percentile(std::vector<double>& values, double fraction);
 /// Steps in a run of `duration_s` at `dt_s`: round(duration / dt).
 std::int64_t run_step_count(double duration_s, double dt_s);
 
-/// Runs `step(k)` for k = 0, 1, ... over `duration_s` at `dt_s` (round(duration / dt) steps, or
-/// until a step says stop). Fills `out`'s force windows (t_s, force_N, and instrument where the
-/// steps give a pose), wall_s and cpu_s (over the steps after window.warmup_steps), timed_steps
-/// max_step_wall_s and p99_step_wall_s (over the timed steps); calls `progress(fraction)` every 250 steps and at the end when given.
-/// Returns the number of steps run.
+/// Runs `step(k)` for k = 0, 1, ...: first the window's lead (lead_step_count(window, dt_s)
+/// steps, neither timed nor compared), then the window, round(duration / dt) steps, or until a
+/// step says stop. Fills `out`'s force windows (t_s and force_N, the window's only, t_s from
+/// the window's start), its instrument poses (at every sample boundary from the run's start,
+/// where the steps give a pose), wall_s and cpu_s (over the window's steps after
+/// window.warmup_steps), timed_steps, max_step_wall_s and p99_step_wall_s (over the timed
+/// steps); calls `progress(fraction)` every 250 steps and at the end when given. Returns the
+/// number of window steps run.
 std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& window, RunTrace& out,
                             const std::function<LoopStep(std::int64_t)>& step,
                             const std::function<void(double)>& progress = {});

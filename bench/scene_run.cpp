@@ -59,37 +59,45 @@ RunTrace run_scene(const WorldConfig& config_in, const Trajectory& trajectory,
                    const RunObserver& observer) {
   RunTrace out;
   WorldConfig config = config_in;
-  const double t0 = window.start_s;
+  const double dt = config.solver.dt_s;
+  const std::int64_t lead = lead_step_count(window, dt);
+  const double t0 = run_start_s(window, dt);
   config.instrument_start = trajectory.at(t0);
   World world(config);
-  const double dt = config.solver.dt_s;
   const double duration =
-      window.duration_s > 0.0 ? window.duration_s : trajectory.duration_s() - t0;
+      window.duration_s > 0.0 ? window.duration_s : trajectory.duration_s() - window.start_s;
   if (world.nucleus()) {
     out.particles = world.nucleus()->particle_count();
     out.bonds = world.nucleus()->bond_count();
   }
   DeviceSample sample;
   double iterations = 0.0, active = 0.0;
+  StageTimes lead_stages;  // the stage times at the window's start
   run_timed_loop(
       duration, dt, window, out,
       [&](std::int64_t k) {
-        const double t_rel = double(k + 1) * dt;
-        sample.t_s = t0 + t_rel;
-        sample.pose = trajectory.at(t0 + t_rel);
+        if (k == lead) lead_stages = world.stage_times();
+        const double t_run = double(k + 1) * dt;
+        sample.t_s = t0 + t_run;
+        sample.pose = trajectory.at(t0 + t_run);
         const Frame& f = world.step(sample);
-        if (observer) observer(world, f);
-        iterations += f.solver_iterations;
-        active += f.active_particles;
+        if (k >= lead) {
+          if (observer) observer(world, f);
+          iterations += f.solver_iterations;
+          active += f.active_particles;
+        }
         return LoopStep{f.nucleus_force_N, f.instrument, world.failed()};
       },
       progress);
   out.failed = world.failed();
-  out.steps = world.step_count();
-  out.sim_s = world.time_s();
+  out.steps = std::max<std::int64_t>(0, world.step_count() - lead);
+  out.sim_s = double(out.steps) * dt;
   out.mean_iterations = out.steps > 0 ? iterations / out.steps : 0.0;
   out.mean_active = out.steps > 0 ? active / out.steps : 0.0;
   out.stages = world.stage_times();
+  for (std::size_t s = 0; s < out.stages.seconds.size(); ++s)
+    out.stages.seconds[s] -= lead_stages.seconds[s];
+  out.stages.steps -= lead_stages.steps;
   out.removed_target = world.last_frame().removed_target;
   out.removed_fraction = world.summary().initial_target > 0
                              ? double(out.removed_target) / world.summary().initial_target

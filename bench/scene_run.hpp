@@ -31,12 +31,22 @@ WorldConfig apply_settings(const WorldConfig& base, const RunSettings& s);
 
 /// Which part of the trajectory a run plays, and how its force is sampled.
 struct RunWindow {
-  double start_s = 0.0;     ///< trajectory time the run starts at (the instrument starts there)
+  double start_s = 0.0;     ///< trajectory time the compared and timed window starts at
   double duration_s = 0.0;  ///< simulated time; <= 0: to the end of the trajectory
+  /// Simulated time run before the window (the instrument starts on the trajectory there):
+  /// round(lead_s / dt) steps that are neither timed nor compared, so the window starts from
+  /// the state the run itself reached, not from a fresh lattice with the instrument placed in
+  /// it. A whole number of sample windows, so that the instrument poses recorded from the
+  /// run's start (RunTrace::instrument) fall on sample boundaries.
+  double lead_s = 0.0;
   /// Forces are averaged over consecutive windows of this length (s), so runs at different
-  /// steps are compared at the same instants and over the same spans. 10 ms holds a whole
-  /// number of steps for dt = 0.25, 0.5, 1, 2 ms.
-  double sample_s = 0.01;
+  /// steps are compared at the same instants and over the same spans. 12 ms holds an even
+  /// number of steps for dt = 0.25, 0.5, 1, 2 and 3 ms: the nucleus's force on the instrument
+  /// alternates from step to step by up to half its mean (a chatter at half the step rate,
+  /// seen at every step from 0.5 to 3 ms on module 02; the instrument's mass and drag pass a
+  /// small part of it on to the coupling force), and a window of an odd number of steps (10 ms
+  /// at 2 ms) keeps a remnant of it that reads as error.
+  double sample_s = 0.012;
   /// Steps run before the timing starts (warm-up; their forces still count).
   int warmup_steps = 0;
 };
@@ -45,17 +55,19 @@ struct RunWindow {
 struct RunTrace {
   std::vector<double> t_s;          ///< end of each force window, s after the start
   std::vector<Vec3> force_N;        ///< mean nucleus force on the instrument per window, N
-  std::vector<Pose> instrument;     ///< simulated grip pose at each window end
+  /// Simulated grip pose at each sample boundary from the run's start (the lead's included):
+  /// the path a peer follows from the trajectory's pose at run_start_s(window, dt).
+  std::vector<Pose> instrument;
   double removed_fraction = 0.0;    ///< target particles removed at the end / initial
   std::int32_t removed_target = 0;
   std::size_t particles = 0;
   std::size_t bonds = 0;
-  double sim_s = 0.0;               ///< simulated time
+  double sim_s = 0.0;               ///< simulated time of the window (the lead not counted)
   double wall_s = 0.0;              ///< wall time of the stepping loop (after the warm-up)
   double cpu_s = 0.0;               ///< CPU time of this thread in the loop (robust on a shared machine)
   double max_step_wall_s = 0.0;     ///< slowest single step, wall
   double p99_step_wall_s = 0.0;     ///< 99th percentile of the timed steps' wall times
-  std::int64_t steps = 0;
+  std::int64_t steps = 0;           ///< steps in the window (the lead not counted)
   std::int64_t timed_steps = 0;     ///< steps after the warm-up (those wall_s and cpu_s cover)
   double mean_iterations = 0.0;
   double mean_active = 0.0;
@@ -67,7 +79,14 @@ struct RunTrace {
 /// Called after every step (e.g. to draw a frame); its time counts in the run's wall time.
 using RunObserver = std::function<void(const World&, const Frame&)>;
 
-/// Runs `config` along `trajectory` over `window`. `progress(fraction)` is called now and
+/// Steps run before the window at step dt_s: round(window.lead_s / dt_s).
+std::int64_t lead_step_count(const RunWindow& window, double dt_s);
+
+/// Trajectory time a run at step dt_s starts at: the window's start less its lead steps.
+double run_start_s(const RunWindow& window, double dt_s);
+
+/// Runs `config` along `trajectory` over `window` (its lead first; the observer sees the
+/// window's steps only). `progress(fraction)` is called now and
 /// then when given.
 RunTrace run_scene(const WorldConfig& config, const Trajectory& trajectory,
                    const RunWindow& window, const std::function<void(double)>& progress = {},

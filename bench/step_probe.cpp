@@ -2,6 +2,9 @@
 // figures to compare before/after a solver change (ms per step and per stage, PCG iterations,
 // active particles, force checksum, state hash). A development tool, not a test.
 //   acdr_step_probe SCENARIO TRAJECTORY [duration_s] [spacing_mm] [tol] [max_it] [start_s] [sleep]
+// Environment: ACDR_PROBE_DT_MS (the step, ms), ACDR_PROBE_LEAD_S (simulated time run before
+// start_s, neither timed nor traced; a whole number of force windows), ACDR_PROBE_SAMPLE_S (the
+// force windows, s; default RunWindow's), ACDR_PROBE_TRACE (a CSV file for the force trace).
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -37,6 +40,9 @@ int main(int argc, char** argv) {
   window.duration_s = duration;
   if (argc > 7) window.start_s = std::atof(argv[7]);
   if (argc > 8) s.sleep = std::atoi(argv[8]);
+  if (const char* dt_ms = std::getenv("ACDR_PROBE_DT_MS")) s.dt_s = std::atof(dt_ms) * 1e-3;
+  if (const char* lead = std::getenv("ACDR_PROBE_LEAD_S")) window.lead_s = std::atof(lead);
+  if (const char* sample = std::getenv("ACDR_PROBE_SAMPLE_S")) window.sample_s = std::atof(sample);
   const acdr::WorldConfig config = acdr::apply_settings(loaded.model->world, s);
   const acdr::RunTrace r = acdr::run_scene(config, *trajectory, window);
   double f_sum = 0.0, f_max = 0.0;
@@ -79,7 +85,7 @@ int main(int argc, char** argv) {
     if (argc > 10) ps.link_stiffness = std::atof(argv[10]);
     if (argc > 11) ps.damping = std::atof(argv[11]);
     const acdr::RunTrace peer = acdr::run_bullet_peer(
-        config, trajectory->at(window.start_s), r.instrument, window, ps);
+        config, trajectory->at(acdr::run_start_s(window, config.solver.dt_s)), r.instrument, window, ps);
     const acdr::TraceError e = acdr::trace_error(peer, r);
     std::printf("peer: %zu nodes %zu links, cpu %.3f s -> %.4f ms/step, force rms err %.3f "
                 "peak err %.3f, removed %.4f%s\n",

@@ -127,25 +127,36 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
   c.text(right - c.text_width("5 % error") - 4, py(0.05) - 20, "5 % error", mark);
 
   // Points: colour per solver, marker per scene (first scene: square / X, second: diamond /
-  // plus, further: the same again); the default point ringed.
+  // plus, third: triangle / hollow square, further: the same again); the default point ringed.
   std::vector<std::string> scenes;
   for (const WorkPoint& p : report.points)
     if (std::find(scenes.begin(), scenes.end(), p.scene) == scenes.end()) scenes.push_back(p.scene);
   auto scene_index = [&](const std::string& s) {
-    return static_cast<int>(std::find(scenes.begin(), scenes.end(), s) - scenes.begin()) % 2;
+    return static_cast<int>(std::find(scenes.begin(), scenes.end(), s) - scenes.begin()) % 3;
   };
   auto marker = [&](double x, double y, bool bullet, int shape) {
     if (bullet) {
       if (shape == 0) {
         c.line(x - 6, y - 6, x + 6, y + 6, peer, 3);
         c.line(x - 6, y + 6, x + 6, y - 6, peer, 3);
-      } else {
+      } else if (shape == 1) {
         c.line(x - 7, y, x + 7, y, peer, 3);
         c.line(x, y - 7, x, y + 7, peer, 3);
+      } else {
+        c.line(x - 6, y - 6, x + 6, y - 6, peer, 2);
+        c.line(x + 6, y - 6, x + 6, y + 6, peer, 2);
+        c.line(x + 6, y + 6, x - 6, y + 6, peer, 2);
+        c.line(x - 6, y + 6, x - 6, y - 6, peer, 2);
       }
     } else if (shape == 0) {
       c.rect(static_cast<int>(x) - 5, static_cast<int>(y) - 5, static_cast<int>(x) + 6,
              static_cast<int>(y) + 6, ours);
+    } else if (shape == 2) {
+      for (int d = -6; d <= 6; ++d) {  // a triangle, apex up
+        const int half = (d + 6) / 2 + 1;
+        c.rect(static_cast<int>(x) - half, static_cast<int>(y) + d, static_cast<int>(x) + half,
+               static_cast<int>(y) + d + 1, ours);
+      }
     } else {
       for (int d = -7; d <= 7; ++d) {
         const int half = 7 - std::abs(d);
@@ -176,7 +187,7 @@ PlotImage plot_work_precision(const BenchReport& report, int width, int height) 
   const int lx = right + 24, ly = top + 10;
 
   int row = 0;
-  for (std::size_t k = 0; k < scenes.size() && k < 2; ++k) {
+  for (std::size_t k = 0; k < scenes.size() && k < 3; ++k) {
     for (bool bullet : {false, true}) {
       bool any = false;
       for (const WorkPoint& p : report.points)

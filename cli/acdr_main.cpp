@@ -205,7 +205,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_flag("--json", bench.json, "Print the results as JSON");
   bench_cmd->add_option("--png", bench.png, "Work-precision plot (PNG; empty string: none)");
   bench_cmd->add_option("--scene", bench.scenes,
-                        "NAME=SCENARIO.json:TRAJECTORY.csv[@WINDOW_START_S] (default: the box and healthy C4-C5 modules)");
+                        "NAME=SCENARIO.json:TRAJECTORY.csv[@WINDOW_START_S[,RUN_FROM_S]]: runs start at RUN_FROM_S "
+                        "(default 0: the trajectory's start) and are compared and timed from WINDOW_START_S "
+                        "(default: the box and healthy C4-C5 modules)");
   bench_cmd->callback([&] { code = acdr::run_bench(bench, std::cout, std::cerr); });
 
   // acdr render

@@ -12,12 +12,13 @@
 namespace acdr {
 
 struct BenchOptions {
-  bool quick = false;    ///< the small grid: within two minutes on a 2-core machine
+  bool quick = false;    ///< the small grid: about three minutes on a 2-core machine
   bool json = false;     ///< JSON on stdout instead of the table
   std::string csv;       ///< also write every figure as CSV here, when set
   std::string png = "bench_work_precision.png";  ///< the work-precision plot; empty: none
-  /// NAME=SCENARIO:TRAJECTORY[@WINDOW_START_S]; empty: the box and the healthy C4-C5 modules on
-  /// their demonstration trajectories.
+  /// NAME=SCENARIO:TRAJECTORY[@WINDOW_START_S[,RUN_FROM_S]] (the runs start at RUN_FROM_S,
+  /// default the trajectory's start, and are compared and timed from WINDOW_START_S); empty:
+  /// the box and the healthy C4-C5 modules on their demonstration trajectories.
   std::vector<std::string> scenes;
   bool render = true;    ///< measure the headless skip with an offscreen renderer
 };

@@ -23,6 +23,7 @@ const std::string kBoxPath = std::string(ACDR_SOURCE_DIR) + "/content/demonstrat
 BenchConfig tiny_config() {
   BenchConfig c;
   c.scenes.push_back({"box", kBox, kBoxPath, 1.9, 3.0e-3});
+  c.scenes.back().run_from_s = 1.85;  // 50 ms before the window: a 60 ms lead (12 ms windows)
   BenchGrid& g = c.grid;
   g.window_s = 0.1;
   g.reference_dt_s = 0.5e-3;
@@ -65,6 +66,10 @@ void check_parts() {
   // 6 when the scene's own tolerance is not in the grid (the default point is added), else 5.
   EXPECT_GE(report_->points.size(), 1u + 2u + 1u + 1u);
   EXPECT_LE(report_->points.size(), 1u + 2u + 1u + 1u + 1u);
+  // Every work-precision run starts 50 ms before the window, rounded up to whole sample
+  // windows (5 of 12 ms).
+  ASSERT_EQ(report_->windows.size(), 1u);
+  EXPECT_NEAR(report_->windows[0].second.lead_s, 0.06, 1e-12);
   EXPECT_EQ(report_->scaling.size(), 2u);
   EXPECT_LT(report_->scaling[0].particles, report_->scaling[1].particles);
   ASSERT_EQ(report_->skips.size(), 4u);
@@ -124,6 +129,7 @@ void check_json() {
     EXPECT_TRUE(p["solver"] == "acdr" || p["solver"] == "bullet");
     EXPECT_TRUE(p["settings"].is_object());
   }
+  EXPECT_NEAR(j["windows"]["box"]["lead_s"].get<double>(), 0.06, 1e-12);
   EXPECT_TRUE(j["scaling"].contains("exponent"));
   EXPECT_TRUE(j["scaling"]["points"].is_array());
   for (const auto& p : j["scaling"]["points"]) EXPECT_TRUE(p.contains("cpu_us_per_particle_step"));

@@ -1,5 +1,6 @@
 // The benchmark runs' shared stepping loop on synthetic steps (no physics): step count, force
-// windows, the instrument path at window ends, stopping, warm-up and progress. No timing
+// windows, the instrument path at window ends, the lead before the window, stopping, warm-up
+// and progress. No timing
 // assertions beyond "measured at all".
 #include "bench/run_loop.hpp"
 
@@ -90,6 +91,43 @@ TEST(RunLoop, WarmUpStepsAreNotTimedAndProgressEndsAtOne) {
   EXPECT_NEAR(progress[1], 250.0 / 600.0, 1e-15);
   EXPECT_NEAR(progress[2], 500.0 / 600.0, 1e-15);
   EXPECT_EQ(progress[3], 1.0);
+}
+
+TEST(RunLoop, TheLeadRunsFirstAndIsNeitherComparedNorTimedButItsPosesAreKept) {
+  // 20 ms of lead, then 30 ms of window, 1 ms steps in 10 ms windows: 50 steps in all; the
+  // force windows hold only the window's steps (k = 20 ... 49), the poses every boundary from
+  // the run's start (5 of them).
+  RunWindow w = window_of(0.01);
+  w.lead_s = 0.02;
+  EXPECT_EQ(lead_step_count(w, 1e-3), 20);
+  EXPECT_EQ(lead_step_count(w, 2e-3), 10);
+  w.start_s = 1.0;
+  EXPECT_NEAR(run_start_s(w, 1e-3), 0.98, 1e-15);
+  RunTrace out;
+  std::vector<double> progress;
+  std::int64_t last = -1;
+  const std::int64_t ran = run_timed_loop(
+      0.03, 1e-3, w, out,
+      [&](std::int64_t k) {
+        last = k;
+        LoopStep s;
+        s.force_N = Vec3(double(k), 0, 0);
+        s.instrument = Pose{Vec3(0, 0, double(k + 1)), Quat::Identity()};
+        return s;
+      },
+      [&](double f) { progress.push_back(f); });
+  EXPECT_EQ(ran, 30);  // the window's steps
+  EXPECT_EQ(last, 49);
+  EXPECT_EQ(out.timed_steps, 30);
+  ASSERT_EQ(out.t_s.size(), 3u);
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_NEAR(out.t_s[j], 0.01 * (j + 1), 1e-15);  // from the window's start
+    EXPECT_NEAR(out.force_N[j].x(), 20.0 + 10.0 * j + 4.5, 1e-12);
+  }
+  ASSERT_EQ(out.instrument.size(), 5u);
+  for (int j = 0; j < 5; ++j) EXPECT_EQ(out.instrument[j].position.z(), 10.0 * (j + 1));
+  ASSERT_FALSE(progress.empty());
+  EXPECT_EQ(progress.back(), 1.0);
 }
 
 TEST(RunLoop, NearestRankPercentileIsTheSmallestValueAtOrAboveTheFraction) {
