@@ -32,6 +32,11 @@ std::string acdr_settings_text(double dt, double tol, double h) {
          "mm";
 }
 
+/// The multi-rate setting for a point's label: empty when the particles step at every step.
+std::string nucleus_every_text(int every) {
+  return every > 1 ? " nucleus every " + std::to_string(every) : std::string();
+}
+
 /// Parts of a C4-C5 scene that the box module does not declare (two vertebral bodies, the
 /// posterior elements as capsules, the uncinate processes), placed beside the box: what an
 /// engine that always built every part would carry along. They touch no particle.
@@ -280,6 +285,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
            rs.dt_s = grid.reference_dt_s;
            rs.tolerance = grid.reference_tolerance;
            rs.max_iterations = grid.reference_max_iterations;
+           rs.nucleus_every = 1;  // the particles at the reference's own step
            // Sleep is a skip: a scene that lets particles sleep nearer the instrument than
            // the engine's default is measured against a reference that does not.
            rs.sleep_distance_m =
@@ -335,6 +341,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
                         p.tolerance = tol;
                         p.spacing_m = spacing;
                         p.settings = acdr_settings_text(dt, tol, spacing) +
+                                     nucleus_every_text(config.solver.nucleus_every) +
                                      (is_default ? " (default)" : "");
                         p.is_default = is_default;
                         rep.points.push_back(p);
@@ -433,6 +440,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
                       RunSettings s;
                       s.spacing_m = spacing;
                       s.sleep = 0;
+                      s.nucleus_every = 1;  // a particle step at every step: the cost per step
                       const RunTrace run =
                           run_scene(apply_settings(first.world, s), first.trajectory, w);
                       ScalingPoint p;

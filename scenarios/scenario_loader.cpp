@@ -643,6 +643,18 @@ void read_device(ObjectReader& r, DeviceConfig& d) {
 
 void read_solver(ObjectReader& r, SolverConfig& s) {
   if (auto v = r.quantity(duration("dt"), Need::kOptional, Range::closed(kMinStep, 10e-3))) s.dt_s = *v;
+  if (auto v = r.integer("nucleus_every", Need::kOptional, Range::closed(1, 10))) {
+    s.nucleus_every = *v;
+    // The particles' own step keeps to the range of dt.
+    if (s.dt_s * s.nucleus_every > 10e-3 * (1.0 + 1e-12)) {
+      const std::string at = r.pointer() + "/nucleus_every";
+      r.context().error_located(at, at,
+                                "nucleus_every " + std::to_string(s.nucleus_every) + " at dt " +
+                                    format_number(s.dt_s / kMm) + " ms steps the particles at " +
+                                    format_number(s.dt_s * s.nucleus_every / kMm) +
+                                    " ms (expected at most 10 ms)");
+    }
+  }
   if (auto v = r.integer("max_iterations", Need::kOptional, Range::closed(1, 10000))) {
     s.max_iterations = *v;
   }

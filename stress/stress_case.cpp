@@ -31,6 +31,7 @@ WorldConfig stress_world(const StressCaseSpec& spec, Pose& grip_start) {
   c.instrument.shape = InstrumentShape::kPrism;
   c.instrument.blade_size_m = Vec3(6.0e-3, 3.0e-3, 8.0e-3);
   c.solver.dt_s = spec.dt_s;
+  c.solver.nucleus_every = spec.nucleus_every;
   c.removal.min_m = Vec3(-0.05, -0.05, -0.05);
   c.removal.max_m = Vec3(0.05, 0.05, 0.05);
   // Grip so that the blade's lower face is 3 mm above the block, centred at x = 5 mm.
@@ -113,6 +114,15 @@ std::vector<StressCaseSpec> builtin_stress_cases(bool fast) {
   add("soft_fast_dt4ms_mu1_1m_s", [](StressCaseSpec& s) {
     s.dt_s = 4.0e-3;
     s.viscosity_Pa_s = 1.0;
+    s.speed_m_s = 1.0;
+  });
+  // Multi-rate: the particles every 3rd 1 ms step, their reaction held in between; the
+  // held drag must not feed energy into a stiff, viscous block scooped fast.
+  add("every3_dt1ms", [](StressCaseSpec& s) { s.nucleus_every = 3; });
+  add("every3_k1e5_mu1e4_1m_s", [](StressCaseSpec& s) {
+    s.nucleus_every = 3;
+    s.bond_stiffness_N_m = 1.0e5;
+    s.viscosity_Pa_s = 1.0e4;
     s.speed_m_s = 1.0;
   });
   return out;

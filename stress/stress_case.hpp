@@ -1,6 +1,6 @@
 // Numerical stability stress suite (`acdr stress`): the box module's scene driven
 // through the whole World (device guard, virtual coupling, instrument, nucleus) by a scripted
-// device, swept over time step, bond stiffness, viscosity, instrument speed, a 5 cm teleport and
+// device, swept over time step (and multi-rate particle steps), bond stiffness, viscosity, instrument speed, a 5 cm teleport and
 // NaN/Inf device samples. Each case reports NaN, peak particle speed, kinetic-energy growth
 // while nothing is driven, particles that crossed a wall (or entered a solid), and the peak
 // force sent to the device against its limit.
@@ -14,6 +14,7 @@ namespace acdr {
 struct StressCaseSpec {
   std::string name;
   double dt_s = 1.0e-3;
+  int nucleus_every = 1;         ///< the particles step every this many steps (multi-rate)
   double bond_stiffness_N_m = 5.0;
   double viscosity_Pa_s = 250.0;
   double speed_m_s = 0.05;       ///< commanded instrument speed during the scoop

@@ -26,7 +26,7 @@ struct Frame {
   std::int32_t removed_protected = 0; ///< particles of non-target material removed so far
   std::int32_t broken_bonds = 0;      ///< bonds broken so far
   std::int32_t active_particles = 0;  ///< particles integrated this step (not asleep)
-  std::int32_t solver_iterations = 0;
+  std::int32_t solver_iterations = 0;  ///< linear solver iterations this step (0 between multi-rate particle steps)
   bool input_valid = true;            ///< false when the device sample was rejected
   // anatomy: one sample per danger zone, fixed capacity (no allocation)
   struct ZoneState {

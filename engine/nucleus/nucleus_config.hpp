@@ -80,6 +80,10 @@ struct NucleusConfig {
 
 struct SolverConfig {
   double dt_s = 1.0e-3;          ///< fixed step (1 kHz haptic rate)
+  /// The World steps the particles every this many of its steps, at nucleus_every x dt_s;
+  /// the instrument, its coupling and contacts, the zones and the feedback still step at dt_s,
+  /// the particles' reaction held between their steps (see World). 1: every step.
+  int nucleus_every = 1;
   int max_iterations = 60;       ///< linear solver iterations per substep
   double tolerance = 1.0e-4;     ///< relative residual of the linear solve
   bool sleep_enabled = true;     ///< particles at rest far from the instrument are not integrated

@@ -49,7 +49,9 @@ const char* step_stage_name(StepStage stage) {
 static_assert(Frame::kZoneCapacity == kMaxZones, "Frame::zones must hold every zone");
 
 World::World(const WorldConfig& config)
-    : config_(config), guard_(config.device, config.instrument_start, config.solver.dt_s) {
+    : config_(config),
+      guard_(config.device, config.instrument_start, config.solver.dt_s),
+      nucleus_every_(std::max(1, config.solver.nucleus_every)) {
   static_colliders_ = build_static_colliders(config_.ground, config_.box);
   // anatomy: vertebrae, their distance grid for the particles, the zones
   if (config_.anatomy.enabled) {
@@ -79,7 +81,10 @@ World::World(const WorldConfig& config)
     NucleusOptions options;
     // The bone (the last static collider) when its loads are sampled.
     if (bone_period_steps_ > 0) options.gathered_static = static_cast<int>(static_colliders_.size()) - 1;
-    nucleus_ = std::make_unique<Nucleus>(config_.nucleus, config_.solver, config_.gravity_m_s2,
+    // The particles' own step (their solver's tolerance is scaled by it).
+    SolverConfig solver = config_.solver;
+    solver.dt_s *= static_cast<double>(nucleus_every_);
+    nucleus_ = std::make_unique<Nucleus>(config_.nucleus, solver, config_.gravity_m_s2,
                                          static_colliders_, options);
   }
   if (instrument_) {
@@ -162,24 +167,37 @@ void World::read_input(const DeviceSample& sample, StepData& s) {
 }
 
 // nucleus: the particles step against the instrument at its current pose and velocity, and
-// gather what they do to it (force, torque, drag) about its centre of mass.
+// gather what they do to it (force, torque, drag) about its centre of mass. Multi-rate: at
+// every nucleus_every-th step only, over that many steps at once; the steps between hold the
+// reaction (step_instrument) and spend no solver iterations.
 void World::step_nucleus() {
   std::span<const Collider> moving;
   std::span<BodyReaction> reactions;
+  const bool due = nucleus_due();
   if (instrument_) {
     const Pose grip = rigid_->instrument_grip();
     const Vec3 com = rigid_->instrument_com_world();
     const Vec3 omega = rigid_->instrument_angular_velocity();
-    const Vec3 v_grip = rigid_->instrument_com_velocity() + omega.cross(grip.position - com);
+    const Vec3 v_com = rigid_->instrument_com_velocity();
+    const Vec3 v_grip = v_com + omega.cross(grip.position - com);
     instrument_->world_colliders(grip, v_grip, omega, moving_);
-    reactions_[0] = BodyReaction{};
-    reactions_[0].reference_point = com;
+    if (due) {
+      reactions_[0] = BodyReaction{};
+      reactions_[0].reference_point = com;
+      held_point_velocity_ = v_com;  // the reference point is the centre of mass here
+      held_angular_velocity_ = omega;
+    }
     moving = moving_;
     reactions = reactions_;
   }
   if (!nucleus_) return;
+  if (!due) {
+    frame_.solver_iterations = 0;
+    return;
+  }
   NumericalReport report;
-  nucleus_->step(config_.solver.dt_s, moving, reactions, report);
+  nucleus_->step(config_.solver.dt_s * static_cast<double>(nucleus_every_), moving, reactions,
+                 report);
   frame_.solver_iterations = report.iterations;
   if (!report.ok && !failed_) {
     emit(EventKind::kNumerical, report.residual, report.stage);
@@ -194,7 +212,7 @@ void World::step_nucleus() {
 void World::step_instrument(StepData& s) {
   if (!instrument_) return;
   const double dt = config_.solver.dt_s;
-  const BodyReaction& reaction = reactions_[0];
+  BodyReaction reaction = reactions_[0];
   InstrumentBodyState body;
   body.mass_kg = config_.instrument.mass_kg;
   body.inertia_kg_m2 = rigid_->instrument_world_inertia();
@@ -202,6 +220,15 @@ void World::step_instrument(StepData& s) {
   body.com_velocity_m_s = rigid_->instrument_com_velocity();
   body.angular_velocity_rad_s = rigid_->instrument_angular_velocity();
   body.grip = rigid_->instrument_grip();
+  if (!nucleus_due()) {
+    // Held reaction: the particles' drag answers the instrument's velocity change since their
+    // step (the implicit update then takes it on to the new velocity).
+    const Vec3 v_point = body.com_velocity_m_s +
+                         body.angular_velocity_rad_s.cross(reaction.reference_point - body.com_m);
+    reaction.force_N -= reaction.drag_Ns_m * (v_point - held_point_velocity_);
+    reaction.torque_Nm -=
+        reaction.rot_drag_Nms * (body.angular_velocity_rad_s - held_angular_velocity_);
+  }
   const InstrumentUpdate update =
       implicit_instrument_update(body, coupling_, s.target, reaction, config_.gravity_m_s2, dt);
   s.contact = rigid_->step(dt, update.force_N, update.torque_Nm);

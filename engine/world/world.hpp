@@ -5,6 +5,12 @@
 // guarded device pose becomes the coupling's target) -> nucleus (the particles against the
 // instrument) -> instrument (its implicit update, Bullet's contacts, the shaft's load, the danger
 // zones) -> feedback (the force the device renders) -> record (the frame).
+//
+// Multi-rate (SolverConfig::nucleus_every = k > 1): the particles step at every k-th step, over
+// k dt at once, against the instrument's pose and velocity at that step; the instrument still
+// steps every dt under the particles' reaction held from their step, its drag part moved to the
+// instrument's velocity (the force less drag x the velocity gained since the particles' step),
+// so the held reaction stays implicit in the drag as within one step.
 #pragma once
 
 #include <array>
@@ -97,6 +103,8 @@ class World {
   // The stages of step(), in order.
   void read_input(const DeviceSample& sample, StepData& s);
   void step_nucleus();
+  /// Whether this step steps the particles (every nucleus_every-th step, the first included).
+  bool nucleus_due() const { return steps_ % nucleus_every_ == 0; }
   void step_instrument(StepData& s);
   void send_feedback(StepData& s);
   void record(const StepData& s);
@@ -126,6 +134,11 @@ class World {
   StageTimes times_;
   double t_ = 0.0;
   std::int64_t steps_ = 0;
+  std::int64_t nucleus_every_ = 1;  // SolverConfig::nucleus_every, at least 1
+  // The instrument's velocities when the particles last stepped (their reaction's drag is
+  // about them): of the reaction's reference point, and angular.
+  Vec3 held_point_velocity_ = Vec3::Zero();
+  Vec3 held_angular_velocity_ = Vec3::Zero();
   bool failed_ = false;
   bool input_rejecting_ = false;
   bool input_lost_ = false;

@@ -227,6 +227,7 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(w.device.max_jump_m, dd.max_jump_m);
   const SolverConfig& sd = d.world.solver;
   EXPECT_NE(w.solver.dt_s, sd.dt_s);
+  EXPECT_NE(w.solver.nucleus_every, sd.nucleus_every);
   EXPECT_NE(w.solver.max_iterations, sd.max_iterations);
   EXPECT_NE(w.solver.tolerance, sd.tolerance);
   EXPECT_NE(w.solver.sleep_enabled, sd.sleep_enabled);
@@ -823,6 +824,16 @@ TEST(ScenarioLoaderRanges, RefusesDenormalsAndStepsBelowThePhysicalFloor) {
                                   format_number(std::stod(tiny)) + " ms, expected >= 0.1 ms and <= 10 ms)");
   }
   EXPECT_TRUE(load_scenario_text(replace_once(box, "\"dt_ms\": 1,", "\"dt_ms\": 0.1,"), "m.json").ok());
+  // The particles' own step (dt x nucleus_every) keeps to the same ceiling as dt.
+  const std::string every = "\"dt_ms\": 1, \"nucleus_every\": ";
+  EXPECT_TRUE(load_scenario_text(replace_once(box, "\"dt_ms\": 1,", every + "10,"), "m.json").ok());
+  const auto slow = errors_of(replace_once(replace_once(box, "\"dt_ms\": 1,", every + "3,"),
+                                           "\"dt_ms\": 1,", "\"dt_ms\": 4,"));
+  ASSERT_EQ(slow.size(), 1u);
+  EXPECT_NE(slow[0].to_string().find("/world/solver/nucleus_every: nucleus_every 3 at dt 4 ms "
+                                     "steps the particles at 12 ms (expected at most 10 ms)"),
+            std::string::npos)
+      << slow[0].to_string();
   // A denormal where zero is allowed (a viscosity of 0 is a physical value).
   const auto errors = errors_of(replace_once(box, "\"viscosity_Pa_s\": 250", "\"viscosity_Pa_s\": 4e-320"));
   ASSERT_EQ(errors.size(), 1u);

@@ -66,7 +66,9 @@ TEST(StressSuite, SweepsStepStiffnessViscositySpeedAndBadInput) {
   const auto cases = builtin_stress_cases(true);
   double dt_min = 1, dt_max = 0, k_max = 0, mu_min = 1e9, mu_max = 0, v_max = 0;
   bool teleport = false, bad = false;
+  int every_max = 1;
   for (const auto& c : cases) {
+    every_max = std::max(every_max, c.nucleus_every);
     dt_min = std::min(dt_min, c.dt_s);
     dt_max = std::max(dt_max, c.dt_s);
     k_max = std::max(k_max, c.bond_stiffness_N_m);
@@ -84,6 +86,7 @@ TEST(StressSuite, SweepsStepStiffnessViscositySpeedAndBadInput) {
   EXPECT_GE(v_max, 1.0);
   EXPECT_TRUE(teleport);
   EXPECT_TRUE(bad);
+  EXPECT_GE(every_max, 3);
 }
 
 }  // namespace

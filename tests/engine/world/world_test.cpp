@@ -96,6 +96,42 @@ TEST(World, SameInputSameStateBitForBit) {
   EXPECT_EQ(run(), run());
 }
 
+// Multi-rate: with nucleus_every = 3 the particles step at steps 0, 3, 6, ... over 3 ms, the
+// steps between spend no iterations and leave the particles as they were, and the held reaction
+// still pushes on the instrument; its mean over the press is near the every-step run's.
+TEST(World, MultiRateStepsTheParticlesEveryKthStepAndHoldsTheirReaction) {
+  const int k = 3;
+  WorldConfig every = small_box();
+  every.solver.nucleus_every = k;
+  World multi(every);
+  World single(small_box());
+  auto press = [](int i) { return at(Vec3(0, 0, std::max(0.07 - 2.5e-5 * i, 0.0535))); };
+  double multi_sum = 0.0, single_sum = 0.0;
+  int pressing = 0, solved = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const std::uint64_t before = multi.nucleus()->state_hash();
+    const Frame& f = multi.step(press(i));
+    const Frame& g = single.step(press(i));
+    ASSERT_FALSE(multi.failed()) << "numerical trouble at step " << i;
+    if (i % k == 0) {
+      solved += f.solver_iterations > 0;  // none while every particle sleeps
+    } else {
+      EXPECT_EQ(f.solver_iterations, 0) << "step " << i;
+      EXPECT_EQ(multi.nucleus()->state_hash(), before) << "step " << i;
+    }
+    if (i >= 700) {  // the blade held in the nucleus, above the floor
+      multi_sum += f.nucleus_force_N.z();
+      single_sum += g.nucleus_force_N.z();
+      ++pressing;
+    }
+  }
+  EXPECT_GT(solved, 200) << "the particles step at every third step";
+  EXPECT_NEAR(multi.time_s(), single.time_s(), 1e-12);
+  const double multi_mean = multi_sum / pressing, single_mean = single_sum / pressing;
+  EXPECT_GT(single_mean, 1e-3) << "the nucleus resists the blade";
+  EXPECT_NEAR(multi_mean, single_mean, 0.1 * single_mean);
+}
+
 TEST(World, NonFiniteInputIsRejectedAndReported) {
   World w(small_box(false));
   DeviceSample bad = at(Vec3(0, 0, 0.07));
