@@ -6,33 +6,52 @@
 #include <cstdarg>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 #include <imgui_internal.h>
 
 namespace acdr {
 
+namespace {
+
+// Where a line of `para` (no line feeds) may end at or after `from`: before a space (dropped)
+// or after one of `break_after` (kept); as (end of this piece, start of the next).
+std::pair<std::size_t, std::size_t> next_break(std::string_view para, std::size_t from,
+                                               std::string_view break_after) {
+  for (std::size_t k = from; k < para.size(); ++k) {
+    if (para[k] == ' ') return {k, k + 1};
+    if (k + 1 < para.size() && break_after.find(para[k]) != std::string_view::npos)
+      return {k + 1, k + 1};
+  }
+  return {para.size(), para.size()};
+}
+
+// The paragraphs of `text` (its lines between line feeds; one empty one for empty text).
+std::vector<std::string_view> paragraphs(std::string_view text) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t feed = text.find('\n', start);
+    if (feed == std::string_view::npos) {
+      out.push_back(text.substr(start));
+      return out;
+    }
+    out.push_back(text.substr(start, feed - start));
+    start = feed + 1;
+  }
+}
+
+}  // namespace
+
 std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
                                              const std::function<float(std::string_view)>& measure,
                                              std::string_view break_after) {
   std::vector<std::string_view> lines;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t feed = text.find('\n', start);
-    const std::string_view para =
-        text.substr(start, feed == std::string_view::npos ? std::string_view::npos : feed - start);
-    // Where a line may end at or after `from`: before a space (dropped) or after one of
-    // `break_after` (kept); as (end of this line, start of the next).
-    const auto next_break = [&](std::size_t from) -> std::pair<std::size_t, std::size_t> {
-      for (std::size_t k = from; k < para.size(); ++k) {
-        if (para[k] == ' ') return {k, k + 1};
-        if (k + 1 < para.size() && break_after.find(para[k]) != std::string_view::npos) return {k + 1, k + 1};
-      }
-      return {para.size(), para.size()};
-    };
+  for (const std::string_view para : paragraphs(text)) {
     // One paragraph: each line takes at least one piece, then more while they fit.
     std::size_t line_begin = 0;
     while (true) {
-      auto [end, next] = next_break(line_begin);
+      auto [end, next] = next_break(para, line_begin, break_after);
       if (measure(para.substr(line_begin, end - line_begin)) > width) {
         // A piece wider than the line: as much of it as fits (at least one character, never
         // inside a UTF-8 sequence), the rest on the next line.
@@ -50,7 +69,7 @@ std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
         }
       }
       while (end < para.size()) {
-        const auto [end2, next2] = next_break(next);
+        const auto [end2, next2] = next_break(para, next, break_after);
         if (measure(para.substr(line_begin, end2 - line_begin)) > width) break;
         end = end2;
         next = next2;
@@ -59,8 +78,6 @@ std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
       if (end >= para.size()) break;
       line_begin = next;
     }
-    if (feed == std::string_view::npos) break;
-    start = feed + 1;
   }
   return lines;
 }
@@ -68,14 +85,12 @@ std::vector<std::string_view> wrap_at_spaces(std::string_view text, float width,
 float widest_piece(std::string_view text, const std::function<float(std::string_view)>& measure,
                    std::string_view break_after) {
   float widest = 0.0f;
-  std::size_t begin = 0;
-  for (std::size_t k = 0; k <= text.size(); ++k) {
-    const bool end = k == text.size() || text[k] == ' ' || text[k] == '\n';
-    const bool after = !end && break_after.find(text[k]) != std::string_view::npos;
-    if (!end && !after) continue;
-    const std::size_t stop = after ? k + 1 : k;  // a break_after character stays on its line
-    if (stop > begin) widest = std::max(widest, measure(text.substr(begin, stop - begin)));
-    begin = k + 1;
+  for (const std::string_view para : paragraphs(text)) {
+    for (std::size_t begin = 0; begin < para.size();) {
+      const auto [end, next] = next_break(para, begin, break_after);
+      widest = std::max(widest, measure(para.substr(begin, end - begin)));
+      begin = next;
+    }
   }
   return widest;
 }

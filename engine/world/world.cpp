@@ -83,7 +83,7 @@ World::World(const WorldConfig& config)
     if (bone_period_steps_ > 0) options.gathered_static = static_cast<int>(static_colliders_.size()) - 1;
     // The particles' own step (their solver's tolerance is scaled by it).
     SolverConfig solver = config_.solver;
-    solver.dt_s *= static_cast<double>(nucleus_every_);
+    solver.dt_s = nucleus_dt_s();
     nucleus_ = std::make_unique<Nucleus>(config_.nucleus, solver, config_.gravity_m_s2,
                                          static_colliders_, options);
   }
@@ -171,9 +171,14 @@ void World::read_input(const DeviceSample& sample, StepData& s) {
 // every nucleus_every-th step only, over that many steps at once; the steps between hold the
 // reaction (step_instrument) and spend no solver iterations.
 void World::step_nucleus() {
+  if (nucleus_ && !nucleus_due()) {
+    // Between particle steps: their reaction is held, and the instrument's colliders stay those
+    // they stepped against until the instrument's stage moves them.
+    frame_.solver_iterations = 0;
+    return;
+  }
   std::span<const Collider> moving;
   std::span<BodyReaction> reactions;
-  const bool due = nucleus_due();
   if (instrument_) {
     const Pose grip = rigid_->instrument_grip();
     const Vec3 com = rigid_->instrument_com_world();
@@ -181,23 +186,16 @@ void World::step_nucleus() {
     const Vec3 v_com = rigid_->instrument_com_velocity();
     const Vec3 v_grip = v_com + omega.cross(grip.position - com);
     instrument_->world_colliders(grip, v_grip, omega, moving_);
-    if (due) {
-      reactions_[0] = BodyReaction{};
-      reactions_[0].reference_point = com;
-      held_point_velocity_ = v_com;  // the reference point is the centre of mass here
-      held_angular_velocity_ = omega;
-    }
+    reactions_[0] = BodyReaction{};
+    reactions_[0].reference_point = com;
+    held_point_velocity_ = v_com;  // the reference point is the centre of mass here
+    held_angular_velocity_ = omega;
     moving = moving_;
     reactions = reactions_;
   }
   if (!nucleus_) return;
-  if (!due) {
-    frame_.solver_iterations = 0;
-    return;
-  }
   NumericalReport report;
-  nucleus_->step(config_.solver.dt_s * static_cast<double>(nucleus_every_), moving, reactions,
-                 report);
+  nucleus_->step(nucleus_dt_s(), moving, reactions, report);
   frame_.solver_iterations = report.iterations;
   if (!report.ok && !failed_) {
     emit(EventKind::kNumerical, report.residual, report.stage);

@@ -105,6 +105,8 @@ class World {
   void step_nucleus();
   /// Whether this step steps the particles (every nucleus_every-th step, the first included).
   bool nucleus_due() const { return steps_ % nucleus_every_ == 0; }
+  /// The particles' step: nucleus_every World steps.
+  double nucleus_dt_s() const { return config_.solver.dt_s * static_cast<double>(nucleus_every_); }
   void step_instrument(StepData& s);
   void send_feedback(StepData& s);
   void record(const StepData& s);
