@@ -188,14 +188,17 @@ void World::update_jaws(const DeviceSample& sample) {
     rigid_->set_instrument_part(k, instrument_->jaw_pose(k, jaw_closure_));
 }
 
-// A grasp: when the closing jaws reach jaw_hold_closure, every particle between them is taken
-// out of the solve and carried with the instrument where it lies in the body frame; when the
-// opening jaws reach jaw_release_closure, the held particles go free where they are, moving
-// with the jaws (Nucleus::set_kinematic).
+// A grasp: each time the closing jaws reach jaw_hold_closure, every particle between them is
+// taken out of the solve (those already held stay held) and carried with the instrument where
+// it lies in the body frame; when the opening jaws reach jaw_release_closure, the held
+// particles go free where they are, moving with the jaws (Nucleus::set_kinematic). Jaws opened
+// less than that and closed again bite once more and keep what they held.
 void World::grasp_or_release(const Pose& grip) {
   const InstrumentConfig& ic = config_.instrument;
-  if (!holding_ && jaw_closure_ >= ic.jaw_hold_closure) {
-    holding_ = true;
+  const bool closed = jaw_closure_ >= ic.jaw_hold_closure;
+  const bool bite = closed && !jaws_were_closed_;
+  jaws_were_closed_ = closed;
+  if (bite) {
     const auto x = nucleus_->positions();
     for (std::size_t i = 0; i < x.size(); ++i) {
       const Vec3 local = grip.inverse_apply(x[i]);
@@ -204,8 +207,7 @@ void World::grasp_or_release(const Pose& grip) {
       held_.push_back(static_cast<std::int32_t>(i));
       held_local_.push_back(local);
     }
-  } else if (holding_ && jaw_closure_ <= ic.jaw_release_closure) {
-    holding_ = false;
+  } else if (!held_.empty() && jaw_closure_ <= ic.jaw_release_closure) {
     for (const std::int32_t i : held_) nucleus_->set_kinematic(static_cast<std::size_t>(i), false);
     held_.clear();
     held_local_.clear();

@@ -154,7 +154,7 @@ class World {
   // hold: particle indices and their places in the body frame (capacity N, fixed at build).
   double jaw_closure_ = 0.0;
   double jaw_rate_ = 0.0;
-  bool holding_ = false;
+  bool jaws_were_closed_ = false;  // at or above jaw_hold_closure at the last particle step
   std::vector<std::int32_t> held_;
   std::vector<Vec3> held_local_;
   Vec3 held_momentum_change_ = Vec3::Zero();  // over the particle step, kg m/s
