@@ -36,6 +36,10 @@ places every pass again on the new anatomy.
                                                           # DIR/<name>.waypoints.csv
     python3 scoop_plans.py MODULE.json pulls --moves 'F1,F2,P:0.75:0.6:-0.6' --pace 0.65 \
         --write-dir DIR                                   # a trial plan: DIR/pulls.*.csv
+    python3 scoop_plans.py COPY.json bites --moves 'R:0:0.35:-0.6,R:0:-0.35:0.2' --pace 0.6 \
+        --write-dir DIR                                   # rongeur bites, on a module copy
+                                                          # whose instrument is "rongeur"
+                                                          # (docs/anatomy.md)
 """
 import argparse
 import json
