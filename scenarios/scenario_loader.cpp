@@ -520,10 +520,46 @@ void read_nucleus(ObjectReader& r, NucleusConfig& n) {
   r.finish();
 }
 
+// A pituitary rongeur's jaws (InstrumentConfig): sizes, opening and how fast the hand closes
+// them.
+void read_rongeur_jaws(ObjectReader& r, InstrumentConfig& in) {
+  if (auto v = r.quantity(length("jaw_length"), Need::kOptional, Range::closed(1 * kMm, 30 * kMm))) {
+    in.jaw_length_m = *v;
+  }
+  if (auto v = r.quantity(length("jaw_width"), Need::kOptional, Range::closed(0.5 * kMm, 10 * kMm))) {
+    in.jaw_width_m = *v;
+  }
+  if (auto v = r.quantity(length("jaw_depth"), Need::kOptional, Range::closed(0.1 * kMm, 5 * kMm))) {
+    in.jaw_depth_m = *v;
+  }
+  if (auto v = r.quantity(length("jaw_wall"), Need::kOptional, Range::closed(0.05 * kMm, 3 * kMm))) {
+    in.jaw_wall_m = *v;
+  }
+  if (auto v = r.number("jaw_opening_angle_deg", Need::kOptional, Range::closed(5.0, 120.0),
+                        "deg")) {
+    in.jaw_opening_rad = *v * M_PI / 180.0;
+  }
+  if (auto v = r.number("jaw_close_time_s", Need::kOptional, Range::closed(0.01, 5.0), "s")) {
+    in.jaw_close_time_s = *v;
+  }
+  // The jaws' outer faces when closed stand depth + wall off the axis: the jaws must fit
+  // through their own width in the window, and stay thinner than their length.
+  if (in.has_jaws() && !(in.jaw_depth_m + in.jaw_wall_m < in.jaw_length_m)) {
+    const std::string key = r.has("jaw_depth_m") ? "jaw_depth_m" : "jaw_depth_mm";
+    r.context().error(r.child(key), "rongeur jaws deeper than long (got depth " +
+                                        format_number(in.jaw_depth_m / kMm) + " mm + wall " +
+                                        format_number(in.jaw_wall_m / kMm) + " mm, length " +
+                                        format_number(in.jaw_length_m / kMm) +
+                                        " mm, expected depth + wall < length)");
+  }
+}
+
 void read_instrument(ObjectReader& r, InstrumentConfig& in) {
   in.enabled = true;
-  if (auto s = r.string("shape", Need::kOptional, true, {"prism", "cup_curette"})) {
-    in.shape = *s == "prism" ? InstrumentShape::kPrism : InstrumentShape::kCupCurette;
+  if (auto s = r.string("shape", Need::kOptional, true, {"prism", "cup_curette", "rongeur"})) {
+    in.shape = *s == "prism"         ? InstrumentShape::kPrism
+               : *s == "cup_curette" ? InstrumentShape::kCupCurette
+                                     : InstrumentShape::kRongeur;
   }
   if (auto v = r.quantity(mass("mass"), Need::kOptional, Range::closed(1e-3, 5.0))) in.mass_kg = *v;
   if (auto v = r.quantity(length("shaft_length"), Need::kOptional, Range::closed(5 * kMm, 0.5))) {
@@ -561,6 +597,7 @@ void read_instrument(ObjectReader& r, InstrumentConfig& in) {
                                         format_number(in.cup_diameter_m / kMm) +
                                         " mm, expected twice the wall < the diameter)");
   }
+  read_rongeur_jaws(r, in);
   r.finish();
 }
 

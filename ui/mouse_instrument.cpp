@@ -49,8 +49,14 @@ bool MouseInstrumentDevice::sample(double t_s, DeviceSample& out) {
                                     : pose_.orientation.slerp(turn / angle, goal_.orientation);
   out.t_s = t_s;
   out.pose = pose_;
+  out.grip = grip_;
   out.end = end_;
   return true;
+}
+
+void MouseInstrumentDevice::set_grip(double grip) {
+  std::lock_guard lock(mutex_);
+  grip_ = grip;
 }
 
 Pose apply_mouse_input(const Pose& current, const MouseKeyInput& in, const RenderCamera& camera,

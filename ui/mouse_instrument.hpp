@@ -15,6 +15,7 @@
 //   W / S              raise / lower the instrument (Shift: three times faster)
 //   Q / E, A / D       tilt, roll (as Ctrl + left-drag)
 //   Space              hold still (ignore the mouse while held)
+//   F                  close a rongeur's jaws while held (its grip; other instruments ignore it)
 // "Depth" is the world's vertical: every bundled module has the surgeon above the work,
 // looking down into it. The grip follows at most 20 mm/s and 2 rad/s (of simulated time when
 // the view gives it the attempt's clock; a drag cannot teleport the instrument, and the device
@@ -47,6 +48,8 @@ class MouseInstrumentDevice final : public InputDevice {
   Pose pose() const;
   /// Where the grip is (the last sample's pose).
   Pose current() const;
+  /// Window thread: how far the hand closes the instrument's jaws, 0 open .. 1 closed.
+  void set_grip(double grip);
   /// Window thread: the trainee has finished (the attempt ends at the next step).
   void request_end();
   /// The clock the speeds are counted in (seconds): the simulation's, so that the grip moves
@@ -65,6 +68,7 @@ class MouseInstrumentDevice final : public InputDevice {
   Speeds speeds_;
   std::function<double()> clock_;
   double last_t_s_ = -1.0;
+  double grip_ = 0.0;
   bool end_ = false;
 };
 

@@ -292,7 +292,7 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
     // The instrument's controls first: they are what a trainee needs to learn.
     ImGui::TextColored(ui_colors::kInfo, "Instrument (mouse)");
     ImGui::TextUnformatted("Left-drag: move across  |  Wheel or right-drag: depth");
-    ImGui::TextUnformatted("Ctrl + left-drag: tilt / roll the cup  |  Space: hold still");
+    ImGui::TextUnformatted("Ctrl + left-drag: tilt / roll the cup  |  Space: hold still  |  F: close the jaws");
     ImGui::TextColored(ui_colors::kMuted,
                        "Camera: middle-drag orbit, Shift + middle-drag pan, Ctrl + wheel zoom");
   } else {

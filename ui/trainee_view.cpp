@@ -206,6 +206,7 @@ struct TraineeView::Window {
       in.roll_minus = key_down(handle, GLFW_KEY_A);
       in.fast = key_down(handle, GLFW_KEY_LEFT_SHIFT) || key_down(handle, GLFW_KEY_RIGHT_SHIFT);
       in.hold = key_down(handle, GLFW_KEY_SPACE);
+      mouse->set_grip(key_down(handle, GLFW_KEY_F) ? 1.0 : 0.0);
     }
     mouse->set_pose(apply_mouse_input(mouse->pose(), in, orbit.camera()));
   }

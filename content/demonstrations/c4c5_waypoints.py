@@ -5,14 +5,16 @@ An author thinks of where the curette's cup should be; the device drives the gri
 up the shaft (80 mm shaft + 1.9 mm cup radius, scenarios/modules/0[2-4]_*.json). This tool
 turns rows of
 
-    t_s, cup_x_mm, cup_y_mm, cup_z_mm, roll_deg, pitch_deg, yaw_deg
+    t_s, cup_x_mm, cup_y_mm, cup_z_mm, roll_deg, pitch_deg, yaw_deg[, grip]
 
 (segment frame, docs/anatomy.md: x left, y cranial, z anterior = up) into the waypoint CSV of
 `acdr make-trajectory` (docs/trajectory-format.md): grip = cup - R(roll, pitch, yaw) (0, 0, -L),
 R applied yaw, then pitch, then roll, as engine/devices/waypoint_path.cpp does. Where the orientation
 changes between two rows, intermediate waypoints every 10 degrees keep the cup where the rows
 put it (the grip is interpolated linearly, so one long rotation would swing the cup through the
-anatomy). Lines starting with '#' are copied as comments.
+anatomy). Lines starting with '#' are copied as comments. Rows with an eighth value, the grip
+(0 open .. 1 closed: a rongeur's jaws), give the waypoints a grip column; then every row needs
+one, and the intermediate waypoints interpolate it.
 
     python3 c4c5_waypoints.py expert_1.cup.csv > expert_1.waypoints.csv
     build/acdr make-trajectory expert_1.waypoints.csv expert_1.csv
@@ -23,6 +25,10 @@ the module files and calls this tool's waypoint_lines; scripts/demonstrations ru
 For another curette, give its geometry (the scenario's instrument keys, mm):
 
     python3 c4c5_waypoints.py --cup 4 --wall 0.4 --shaft 80 rows.cup.csv
+
+For a rongeur the rows place the middle of its jaws (the instrument's working point):
+
+    python3 c4c5_waypoints.py --jaw-length 6 --shaft 80 rows.bite.csv
 """
 import argparse
 import math
@@ -39,10 +45,11 @@ def rotation(roll, pitch, yaw):
     return mul(rz, mul(ry, rx))
 
 
-def grip_row(t, cup, rpy, length):
+def grip_row(t, cup, rpy, length, jaw=None):
     rot = rotation(*rpy)
     grip = [cup[i] + length * rot[i][2] for i in range(3)]  # cup - R (0, 0, -L)
-    return "%.3f,%.3f,%.3f,%.3f,%.2f,%.2f,%.2f" % (t, grip[0], grip[1], grip[2], *rpy)
+    row = "%.3f,%.3f,%.3f,%.3f,%.2f,%.2f,%.2f" % (t, grip[0], grip[1], grip[2], *rpy)
+    return row if jaw is None else row + ",%.3f" % jaw
 
 
 def cup_to_grip(shaft_mm, cup_mm, wall_mm):
@@ -50,9 +57,16 @@ def cup_to_grip(shaft_mm, cup_mm, wall_mm):
     return shaft_mm + 0.5 * cup_mm + wall_mm
 
 
+def rongeur_to_grip(shaft_mm, jaw_length_mm):
+    """engine/rigid/instrument.cpp: the middle of the jaws lies shaft + jaw length / 2 below
+    the grip."""
+    return shaft_mm + 0.5 * jaw_length_mm
+
+
 def waypoint_lines(lines, length=L_MM):
     """The waypoint CSV lines for cup-centre row lines (comments copied)."""
     rows, out = [], ["t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg"]
+    with_grip = None
     for line in lines:
         line = line.strip()
         if not line:
@@ -60,19 +74,31 @@ def waypoint_lines(lines, length=L_MM):
         if line.startswith("#"):
             out.append(line)
             continue
-        # A row may end in a comment: "t, x, y, z, roll, pitch, yaw   # what it does".
-        t, x, y, z, ro, pi, ya = (float(v) for v in line.split("#")[0].split(","))
+        # A row may end in a comment: "t, x, y, z, roll, pitch, yaw[, grip]   # what it does".
+        values = [float(v) for v in line.split("#")[0].split(",")]
+        if len(values) not in (7, 8):
+            raise ValueError("'%s': expected 7 or 8 values (the eighth the grip), got %d"
+                             % (line, len(values)))
+        if with_grip is None:
+            with_grip = len(values) == 8
+            if with_grip:
+                out[0] += ",grip"
+        elif with_grip != (len(values) == 8):
+            raise ValueError("'%s': every row needs a grip once one has it" % line)
+        t, x, y, z, ro, pi, ya = values[:7]
+        jaw = values[7] if with_grip else None
         if rows:
-            t0, cup0, rpy0 = rows[-1]
+            t0, cup0, rpy0, jaw0 = rows[-1]
             turn = max(abs(a - b) for a, b in zip(rpy0, (ro, pi, ya)))
             steps = int(math.ceil(turn / 10.0))
             for k in range(1, steps):
                 f = k / steps
                 cup = [c0 + f * (c1 - c0) for c0, c1 in zip(cup0, (x, y, z))]
                 rpy = [a0 + f * (a1 - a0) for a0, a1 in zip(rpy0, (ro, pi, ya))]
-                out.append(grip_row(t0 + f * (t - t0), cup, rpy, length))
-        rows.append((t, (x, y, z), (ro, pi, ya)))
-        out.append(grip_row(t, (x, y, z), (ro, pi, ya), length))
+                out.append(grip_row(t0 + f * (t - t0), cup, rpy, length,
+                                    None if jaw is None else jaw0 + f * (jaw - jaw0)))
+        rows.append((t, (x, y, z), (ro, pi, ya), jaw))
+        out.append(grip_row(t, (x, y, z), (ro, pi, ya), length, jaw))
     return out
 
 
@@ -82,6 +108,10 @@ if __name__ == "__main__":
     ap.add_argument("--cup", type=float, default=3.0, help="cup_diameter_mm (default 3)")
     ap.add_argument("--wall", type=float, default=0.4, help="cup_wall_mm (default 0.4)")
     ap.add_argument("--shaft", type=float, default=80.0, help="shaft_length_mm (default 80)")
+    ap.add_argument("--jaw-length", type=float, help="a rongeur's jaw_length_mm: the rows place "
+                    "the middle of its jaws")
     args = ap.parse_args()
+    length = (rongeur_to_grip(args.shaft, args.jaw_length) if args.jaw_length
+              else cup_to_grip(args.shaft, args.cup, args.wall))
     with open(args.rows) as f:
-        print("\n".join(waypoint_lines(f, cup_to_grip(args.shaft, args.cup, args.wall))))
+        print("\n".join(waypoint_lines(f, length)))

@@ -36,6 +36,10 @@ places every pass again on the new anatomy.
                                                           # DIR/<name>.waypoints.csv
     python3 scoop_plans.py MODULE.json pulls --moves 'F1,F2,P:0.75:0.6:-0.6' --pace 0.65 \
         --write-dir DIR                                   # a trial plan: DIR/pulls.*.csv
+    python3 scoop_plans.py COPY.json bites --moves 'R:0:0.35:-0.6,R:0:-0.35:0.2' --pace 0.6 \
+        --write-dir DIR                                   # rongeur bites, on a module copy
+                                                          # whose instrument is "rongeur"
+                                                          # (docs/anatomy.md)
 """
 import argparse
 import json
@@ -74,18 +78,28 @@ def module_geometry(module):
     inst = world["instrument"]
     box = world["box"]
     morph = world.get("anatomy", {}).get("morphometry", {})
+    jaw = None
+    if inst.get("shape") == "rongeur":
+        # engine/rigid/instrument_config.hpp defaults
+        jaw = {"length": inst.get("jaw_length_mm", 6.0), "width": inst.get("jaw_width_mm", 3.0),
+               "depth": inst.get("jaw_depth_mm", 1.0), "wall": inst.get("jaw_wall_mm", 0.4),
+               "opening_deg": inst.get("jaw_opening_angle_deg", 50.0)}
     return {
+        "jaw": jaw,
         "nucleus_cx": nucleus["center_mm"][0], "nucleus_cz": nucleus["center_mm"][2],
         "nucleus_a": nucleus["semi_axes_mm"][0], "nucleus_b": nucleus["semi_axes_mm"][1],
         "window_half": window,  # half the width of the anterior annulotomy window
         "disc_height": morph.get("disc_height_mm", 5.9),
-        "cup_r": 0.5 * inst["cup_diameter_mm"] + inst["cup_wall_mm"],
+        # a rongeur's closed jaws stand depth + wall off the shaft's axis
+        "cup_r": (jaw["depth"] + jaw["wall"] if jaw else
+                  0.5 * inst["cup_diameter_mm"] + inst["cup_wall_mm"]),
         "tray_cx": 0.5 * (box["inner_min_mm"][0] + box["inner_max_mm"][0]),
         "tray_cy": 0.5 * (box["inner_min_mm"][1] + box["inner_max_mm"][1]),
         "tray_far_y": box["inner_max_mm"][1], "tray_floor": box["inner_min_mm"][2],
         "angled": inst.get("cup_opening_angle_deg", 90) > 90,
-        "grip_mm": c4c5_waypoints.cup_to_grip(inst["shaft_length_mm"], inst["cup_diameter_mm"],
-                                              inst["cup_wall_mm"]),
+        "grip_mm": (c4c5_waypoints.rongeur_to_grip(inst["shaft_length_mm"], jaw["length"]) if jaw
+                    else c4c5_waypoints.cup_to_grip(inst["shaft_length_mm"],
+                                                    inst["cup_diameter_mm"], inst["cup_wall_mm"])),
         "time_limit_s": module.get("time_limit_s", 0),
         "nucleus_viscosity_Pa_s": materials[nucleus["material"]].get("viscosity_Pa_s", 300.0),
         # The virtual coupling (engine/rigid/instrument_config.hpp defaults): what a hand's push
@@ -186,6 +200,24 @@ def S(what, u0, u1, y, v):
 # 02 and not used by the bundled plans (docs/anatomy.md, "The cohorts": what the plans cannot).
 def P(what, u, y, v, pitch=0):
     return ("pull", what, u, y, v, pitch)
+
+
+# A bite with a pituitary rongeur (the module's instrument "rongeur"): the jaws closed through
+# the window, to the lane at u with their tips at depth v (fractions of the nucleus's semi-axes,
+# as the scoops), opened there by `opening` (a fraction of their full opening, narrowed so the
+# open tips stay within JAW_LATERAL_REACH_MM of the nucleus's edge), closed on the gel, drawn
+# out and opened over the tray. y: the jaws' middle, mm. Lanes beyond what the closed jaws can
+# pass through the window straight are reached by tilting the shaft about the window.
+def R(what, u, y, v, opening=1.0):
+    return ("bite", what, u, y, v, opening)
+
+
+JAW_LATERAL_REACH_MM = 0.5   # the open jaws' tips past the nucleus's edge, at most
+TIP_CLEARANCE_MM = 0.3       # the jaws' tips in front of the posterior edge of the nucleus
+BITE_S = (0.8, 1.0, 0.3, 0.15, 0.35, 0.1, 1.0, 0.5)   # window, plunge, open, wait, close,
+                                                      # wait, withdraw, up
+RELEASE_S = (1.0, 0.5, 0.3, 0.3, 0.5, 0.3)            # tray, down, open, wait, up, close
+RELEASE_TIP_MM = 0.5         # the jaws' tips above the tray's floor when they open there
 
 
 # The front band (v 0.55, rows 2-4 mm in front of the centre), the middle (v 0), the back
@@ -373,7 +405,8 @@ def plans_for(module_path, g):
 def parse_moves(text):
     """Moves written on the command line (--moves), comma-separated: the names of this file's
     scoops (F1, M2, L1, ...), REFERENCE for the reference plan's fourteen, S:u0:u1:y:v for a
-    scoop and P:u:y:v[:pitch] for a pull (the arguments of S and P)."""
+    scoop, P:u:y:v[:pitch] for a pull and R:u:y:v[:opening] for a rongeur's bite (the arguments
+    of S, P and R)."""
     named = {k: v for k, v in globals().items()
              if isinstance(v, tuple) and v and v[0] == "scoop"}
     moves = []
@@ -384,24 +417,27 @@ def parse_moves(text):
             moves.extend(REFERENCE)
         elif item in named:
             moves.append(named[item])
-        elif item[:2] in ("S:", "P:"):
+        elif item[:2] in ("S:", "P:", "R:"):
             try:
                 args = [float(a) for a in item[2:].split(":")]
             except ValueError:
                 args = []
-            count = (4,) if item[0] == "S" else (3, 4)
+            count = {"S": (4,), "P": (3, 4), "R": (3, 4)}[item[0]]
             if len(args) not in count:
                 raise ValueError("--moves: '%s': expected %s numbers after '%s:'"
                                  % (item, " or ".join(map(str, count)), item[0]))
-            moves.append((S if item[0] == "S" else P)(item, *args))
+            moves.append({"S": S, "P": P, "R": R}[item[0]](item, *args))
         else:
-            raise ValueError("--moves: '%s': expected a scoop's name (%s), REFERENCE, S:u0:u1:y:v "
-                             "or P:u:y:v[:pitch]" % (item, ", ".join(sorted(named))))
+            raise ValueError("--moves: '%s': expected a scoop's name (%s), REFERENCE, S:u0:u1:y:v, "
+                             "P:u:y:v[:pitch] or R:u:y:v[:opening] (a rongeur's bite)"
+                             % (item, ", ".join(sorted(named))))
     return moves
 
 
 def fmt(t, cup, rpy, what):
-    return "%.2f, %5.2f, %5.2f, %5.2f, %g, %g, %g   # %s" % (t, cup[0], cup[1], cup[2], *rpy, what)
+    """A row; rpy may carry a fourth value, the grip (a rongeur's jaws, 0 open .. 1 closed)."""
+    return "%.2f, %5.2f, %5.2f, %5.2f, %s   # %s" % (t, cup[0], cup[1], cup[2],
+                                                   ", ".join("%g" % a for a in rpy), what)
 
 
 def cup_rows(plan, g):
@@ -415,12 +451,14 @@ def cup_rows(plan, g):
     out = []
     t = 0.0
     last = (p.lateral(0.0, 0.0), 0.0, clear)
-    out.append(fmt(t, last, (0, 0, 0), "start, above the field"))
+    out.append(fmt(t, last, (0, 0, 0, 1.0) if g["jaw"] else (0, 0, 0), "start, above the field"))
     n = 0
 
     def row(dt, cup, rpy, what):
         nonlocal t
         t += dt
+        if g["jaw"] and len(rpy) == 3:
+            rpy = tuple(rpy) + (1.0,)  # a rongeur's jaws stay closed unless a move opens them
         out.append(fmt(t, cup, rpy, what))
 
     limit = g["time_limit_s"]
@@ -460,6 +498,10 @@ def cup_rows(plan, g):
                     "sweep, clear of the posterior annulus")
             row(b[3], (x1, y, out_of_disc), (0, 0, yaw), "straight withdrawal")
             row(b[4], (x1, 0.0, clear), (0, 0, yaw), "")
+        elif m[0] == "bite":
+            bite_rows(m, g, p, row, out, n, pace)
+            last = (p.lateral(0.0, 0.0), 0.0, clear)
+            continue
         elif m[0] == "pull":
             _, what, u, y, v, pitch = m
             side = 1.0 if u >= 0 else -1.0
@@ -533,6 +575,75 @@ def cup_rows(plan, g):
         row(w[5], p.tray(0.0, g["tray_far_y"] - g["tray_cy"], 14.0), (0, 0, 0), "")
         last = (p.lateral(0.0, 0.0), 0.0, clear)
     return description, out
+
+
+def bite_rows(m, g, p, row, out, n, pace):
+    """The rows of one rongeur bite (R) and its release over the tray: the jaws' middle, the
+    stylus's roll, pitch and yaw, and the grip (0 open .. 1 closed)."""
+    _, what, u, y, v, opening = m
+    jw = g["jaw"]
+    half_thick = jw["depth"] + jw["wall"]     # closed jaws, from the axis
+    half_len = 0.5 * jw["length"]
+    y_max = 0.5 * g["disc_height"] - ENDPLATE_WARNING_MM - 0.5 * jw["width"] - 0.15
+    y = max(-y_max, min(y_max, y))
+    x = g["nucleus_cx"] + u * g["nucleus_a"]
+    s = max(-1.0, min(1.0, (x - g["nucleus_cx"]) / g["nucleus_a"]))
+    back_edge = g["nucleus_cz"] - g["nucleus_b"] * math.sqrt(max(0.0, 1.0 - s * s))
+    z_tip = max(g["nucleus_cz"] + v * g["nucleus_b"], back_edge + TIP_CLEARANCE_MM,
+                g["body_back_z"] + CORD_WARNING_MM + CORD_MARGIN_MM)
+    # the closed jaws pass the window (the bodies' front) with 0.1 mm to spare each side; a lane
+    # further out tilts the shaft about the window (pitch about y; negative leans the tips to +x)
+    z_window = g["body_front_z"]
+    x_pass = g["window_half"] - half_thick - 0.1
+    pitch = 0.0
+    if abs(x - g["nucleus_cx"]) > x_pass:
+        side = 1.0 if x > g["nucleus_cx"] else -1.0
+        lean = math.atan((abs(x - g["nucleus_cx"]) - x_pass) / max(1.0, z_window - z_tip))
+        pitch = -side * math.degrees(lean)
+    ph = math.radians(pitch)
+    axis = (math.sin(ph), 0.0, math.cos(ph))  # body +z in the segment frame: tip -> grip
+
+    def middle(tip):  # the jaws' middle for their tips at `tip`
+        return (tip[0] + half_len * axis[0], tip[1], tip[2] + half_len * axis[2])
+
+    # the opening, narrowed until the open tips stay within reach of the nucleus's edge
+    full = 0.5 * math.radians(jw["opening_deg"])
+    reach = p.reach(z_tip) + JAW_LATERAL_REACH_MM - abs(x - g["nucleus_cx"])
+    o = max(0.0, min(1.0, opening))
+    while o > 0.05:
+        a = full * o
+        if jw["length"] * math.sin(a) + half_thick * math.cos(a) <= reach:
+            break
+        o -= 0.05
+    open_grip = round(1.0 - o, 2)
+    b = [d * pace for d in BITE_S]
+    w = [d * pace for d in RELEASE_S]
+    rpy = (0, round(pitch, 2), 0)
+    tip_window = (x - (z_window + 4.0 - z_tip) * axis[0], y, z_window + 4.0)
+    out.append("# bite %d: %s (jaws opened to closure %.2f%s)"
+               % (n, what, open_grip, ", shaft tilted %.1f deg" % pitch if pitch else ""))
+    row(b[0], middle(tip_window), rpy + (1.0,), "over the window, jaws closed")
+    tip = (x, y, z_tip)
+    row(b[1], middle(tip), rpy + (1.0,), "in through the window to the target")
+    row(b[2], middle(tip), rpy + (open_grip,), "open the jaws")
+    row(b[3], middle(tip), rpy + (open_grip,), "")
+    row(b[4], middle(tip), rpy + (1.0,), "bite: close the jaws")
+    row(b[5], middle(tip), rpy + (1.0,), "")
+    tip_out = (x - (z_window + 6.0 - z_tip) * axis[0], y, z_window + 6.0)
+    row(b[6], middle(tip_out), rpy + (1.0,), "straight out, jaws closed on the bite")
+    clear = p.above(12.0)
+    row(b[7], (tip_out[0], 0.0, clear + half_len), (0, 0, 0, 1.0), "")
+    # over the tray: the tips just above its floor (what hangs from them touches it), open,
+    # wait, up, close; each bite in a lane of its own across the tray
+    lane = ((n * 3) % 19) - 9.0
+    tray_hi = p.tray(lane, 0.0, 14.0 + half_len)
+    tray_lo = p.tray(lane, 0.0, RELEASE_TIP_MM + half_len)
+    row(w[0], tray_hi, (0, 0, 0, 1.0), "over the tray")
+    row(w[1], tray_lo, (0, 0, 0, 1.0), "down")
+    row(w[2], tray_lo, (0, 0, 0, 0.0), "open: the bite drops")
+    row(w[3], tray_lo, (0, 0, 0, 0.0), "")
+    row(w[4], tray_hi, (0, 0, 0, 0.0), "up, jaws open")
+    row(w[5], tray_hi, (0, 0, 0, 1.0), "close")
 
 
 def header(name, description, g, module_path):

@@ -12,6 +12,9 @@ struct DeviceSample {
   double t_s = 0.0;
   Pose pose;                 ///< grip pose, world frame
   std::uint32_t buttons = 0;
+  /// How far the hand closes the instrument's jaws, 0 open .. 1 closed (a rongeur; other
+  /// instruments ignore it): a trajectory's grip column, a bridge's first button.
+  double grip = 0.0;
   bool end = false;          ///< the source has finished (end of trajectory, end-of-attempt)
   /// No fresh data for longer than the device's silence limit (e.g. UDP packets lost): the pose
   /// is held and the force goes to zero until data returns (DeviceGuard::accept_lost).

@@ -12,6 +12,7 @@ namespace acdr {
 namespace {
 
 constexpr const char* kHeader = "t_s,x_m,y_m,z_m,qw,qx,qy,qz";
+constexpr const char* kHeaderWithGrip = "t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip";
 
 std::string format_time(double t) {
   char buf[40];
@@ -67,7 +68,8 @@ std::optional<Quat> unit_quaternion(double w, double x, double y, double z) {
   return q;
 }
 
-Trajectory::Trajectory(std::vector<TrajectorySample> samples) : samples_(std::move(samples)) {}
+Trajectory::Trajectory(std::vector<TrajectorySample> samples, bool has_grip)
+    : samples_(std::move(samples)), has_grip_(has_grip) {}
 
 std::optional<Trajectory> Trajectory::load_csv(const std::string& path, std::string* error) {
   std::string why;
@@ -90,6 +92,7 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
   std::string raw;
   int line_no = 0;
   bool header_seen = false;
+  int fields_expected = 8;
   while (std::getline(lines, raw)) {
     ++line_no;
     const std::string line = trim(raw);
@@ -98,18 +101,21 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
       std::string compact;
       for (char ch : line)
         if (ch != ' ') compact += ch;
-      if (compact != kHeader)
-        return fail(line_no, "bad header (got '" + line + "', expected '" + kHeader + "')");
+      if (compact != kHeader && compact != kHeaderWithGrip)
+        return fail(line_no, "bad header (got '" + line + "', expected '" + kHeader + "' or '" +
+                                 kHeaderWithGrip + "')");
+      if (compact == kHeaderWithGrip) fields_expected = 9;
       header_seen = true;
       continue;
     }
-    // Eight comma-separated finite numbers.
-    double v[8];
+    // Eight comma-separated finite numbers, nine with the grip.
+    double v[9];
     std::istringstream fields(line);
     std::string field;
     int count = 0;
     while (std::getline(fields, field, ',')) {
-      if (count >= 8) return fail(line_no, "too many fields (expected 8)");
+      if (count >= fields_expected)
+        return fail(line_no, "too many fields (expected " + std::to_string(fields_expected) + ")");
       const std::string f = trim(field);
       char* end = nullptr;
       v[count] = is_decimal_number(f) ? std::strtod(f.c_str(), &end) : 0.0;
@@ -118,8 +124,13 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
                                  f.substr(0, 40) + "', expected a decimal number such as 0.25 or -1.5e-3)");
       ++count;
     }
-    if (count != 8)
-      return fail(line_no, "expected 8 fields, got " + std::to_string(count));
+    if (count != fields_expected)
+      return fail(line_no, "expected " + std::to_string(fields_expected) + " fields, got " +
+                               std::to_string(count));
+    const double grip = fields_expected == 9 ? v[8] : 0.0;
+    if (!(grip >= 0.0 && grip <= 1.0))
+      return fail(line_no, "grip out of range (got " + format_time(grip) +
+                               ", expected 0 (open) to 1 (closed))");
     if (samples.empty() && v[0] < 0.0)
       return fail(line_no, "negative time (got " + format_time(v[0]) +
                                ", expected the first sample at t_s >= 0)");
@@ -128,11 +139,11 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
                                format_time(samples.back().t_s) + ")");
     const std::optional<Quat> q = unit_quaternion(v[4], v[5], v[6], v[7]);
     if (!q) return fail(line_no, "zero quaternion (got [0, 0, 0, 0], expected a rotation)");
-    samples.push_back({v[0], Pose{Vec3(v[1], v[2], v[3]), *q}});
+    samples.push_back({v[0], Pose{Vec3(v[1], v[2], v[3]), *q}, grip});
   }
   if (!header_seen) return fail(line_no, std::string("missing header (expected '") + kHeader + "')");
   if (samples.empty()) return fail(line_no, "no samples (expected at least one)");
-  return Trajectory(std::move(samples));
+  return Trajectory(std::move(samples), fields_expected == 9);
 }
 
 bool Trajectory::save_csv(const std::string& path, std::string* error) const {
@@ -141,12 +152,15 @@ bool Trajectory::save_csv(const std::string& path, std::string* error) const {
     if (error) *error = path + ": cannot write trajectory file";
     return false;
   }
-  std::fprintf(f, "# ACDR Trainer device trajectory: grip pose over time, SI units\n%s\n", kHeader);
+  std::fprintf(f, "# ACDR Trainer device trajectory: grip pose over time, SI units\n%s\n",
+               has_grip_ ? kHeaderWithGrip : kHeader);
   for (const auto& s : samples_) {
     const auto& p = s.pose.position;
     const auto& q = s.pose.orientation;
-    std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", s.t_s, p.x(), p.y(), p.z(), q.w(),
+    std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", s.t_s, p.x(), p.y(), p.z(), q.w(),
                  q.x(), q.y(), q.z());
+    if (has_grip_) std::fprintf(f, ",%.6g", s.grip);
+    std::fputc('\n', f);
   }
   const bool ok = std::fclose(f) == 0;
   if (!ok && error) *error = path + ": write failed";
@@ -168,9 +182,22 @@ Pose Trajectory::at(double t_s) const {
   return p;
 }
 
+double Trajectory::grip_at(double t_s) const {
+  if (samples_.empty()) return 0.0;
+  if (t_s <= samples_.front().t_s) return samples_.front().grip;
+  if (t_s >= samples_.back().t_s) return samples_.back().grip;
+  const auto it = std::upper_bound(samples_.begin(), samples_.end(), t_s,
+                                   [](double t, const TrajectorySample& s) { return t < s.t_s; });
+  const auto& b = *it;
+  const auto& a = *(it - 1);
+  const double u = (t_s - a.t_s) / (b.t_s - a.t_s);
+  return a.grip + u * (b.grip - a.grip);
+}
+
 bool TrajectoryReplay::sample(double t_s, DeviceSample& out) {
   out.t_s = t_s;
   out.pose = trajectory_.at(t_s);
+  out.grip = trajectory_.grip_at(t_s);
   out.buttons = 0;
   out.end = t_s >= trajectory_.duration_s();
   return true;

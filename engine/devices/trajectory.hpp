@@ -2,9 +2,10 @@
 // played back as an input device.
 //
 // CSV format (docs/trajectory-format.md): '#' comment lines, then a header line
-//   t_s,x_m,y_m,z_m,qw,qx,qy,qz
+//   t_s,x_m,y_m,z_m,qw,qx,qy,qz[,grip]
 // then one sample per line: decimal numbers only, the first time >= 0 and times strictly
-// increasing, quaternions of any finite non-zero scale normalised on load.
+// increasing, quaternions of any finite non-zero scale normalised on load; the optional grip
+// (0 open .. 1 closed) closes an instrument's jaws.
 #pragma once
 
 #include <optional>
@@ -19,12 +20,14 @@ namespace acdr {
 struct TrajectorySample {
   double t_s = 0.0;
   Pose pose;
+  double grip = 0.0;  ///< jaw closure the hand asks for, 0 open .. 1 closed
 };
 
 class Trajectory {
  public:
   Trajectory() = default;
-  explicit Trajectory(std::vector<TrajectorySample> samples);
+  /// `has_grip`: the samples' grip values are meant (written as the grip column).
+  explicit Trajectory(std::vector<TrajectorySample> samples, bool has_grip = false);
 
   /// Loads a CSV trajectory. On failure returns nullopt and sets `error` to
   /// "file:line: what is wrong (got X, expected Y)".
@@ -36,11 +39,16 @@ class Trajectory {
 
   /// Pose at time t: linear in position, spherical-linear in orientation, held at the ends.
   Pose at(double t_s) const;
+  /// Grip at time t: linear between samples, held at the ends (0 without a grip column).
+  double grip_at(double t_s) const;
+  /// Whether the trajectory carries a grip column.
+  bool has_grip() const { return has_grip_; }
   double duration_s() const { return samples_.empty() ? 0.0 : samples_.back().t_s; }
   const std::vector<TrajectorySample>& samples() const { return samples_; }
 
  private:
   std::vector<TrajectorySample> samples_;
+  bool has_grip_ = false;
 };
 
 /// The rotation of [w, x, y, z] as a unit quaternion, for any finite, non-zero scale (a scaled

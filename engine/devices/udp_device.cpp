@@ -169,6 +169,8 @@ bool UdpDevice::sample(double t_s, DeviceSample& out) {
   out.t_s = t_s;
   out.pose = pose_;
   out.buttons = buttons_;
+  // The first button closes the instrument's jaws (World rate-limits the closing).
+  out.grip = (buttons_ & 1u) != 0 ? 1.0 : 0.0;
   out.end = end_received;
   out.stale = stale_;
   out.disconnected = disconnected;

@@ -11,6 +11,7 @@ namespace acdr {
 namespace {
 
 constexpr const char* kHeader = "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg";
+constexpr const char* kHeaderWithGrip = "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,grip";
 
 double minimum_jerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
 
@@ -28,10 +29,10 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
   // Reuse the trajectory reader's checks by translating each row into SI first.
   std::istringstream lines(text);
   std::ostringstream si;
-  si << "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n";
   std::string line;
   int line_no = 0;
   bool header_seen = false;
+  int fields_expected = 7;
   double last_t = -1e300;
   auto fail = [&](const std::string& what) {
     if (error) *error = name + ":" + std::to_string(line_no) + ": " + what;
@@ -44,17 +45,23 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
       if (ch != ' ' && ch != '\t' && ch != '\r') compact += ch;
     if (compact.empty() || compact[0] == '#') continue;
     if (!header_seen) {
-      if (compact != kHeader)
-        return fail("bad header (got '" + compact + "', expected '" + kHeader + "')");
+      if (compact != kHeader && compact != kHeaderWithGrip)
+        return fail("bad header (got '" + compact + "', expected '" + kHeader + "' or '" +
+                    kHeaderWithGrip + "')");
+      // The grip column passes through to the trajectory's (checked there).
+      if (compact == kHeaderWithGrip) fields_expected = 8;
+      si << (fields_expected == 8 ? "t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip\n"
+                                  : "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n");
       header_seen = true;
       continue;
     }
-    double v[7];
+    double v[8];
     std::istringstream fields(compact);
     std::string field;
     int count = 0;
     while (std::getline(fields, field, ',')) {
-      if (count >= 7) return fail("too many fields (expected 7)");
+      if (count >= fields_expected)
+        return fail("too many fields (expected " + std::to_string(fields_expected) + ")");
       char* end = nullptr;
       v[count] = std::strtod(field.c_str(), &end);
       if (field.empty() || end != field.c_str() + field.size() || !std::isfinite(v[count]))
@@ -62,16 +69,25 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
                     field + "')");
       ++count;
     }
-    if (count != 7) return fail("expected 7 fields, got " + std::to_string(count));
+    if (count != fields_expected)
+      return fail("expected " + std::to_string(fields_expected) + " fields, got " +
+                  std::to_string(count));
     if (!(v[0] > last_t))
       return fail("time must increase (got " + std::to_string(v[0]) + " after " +
                   std::to_string(last_t) + ")");
     last_t = v[0];
+    if (fields_expected == 8 && !(v[7] >= 0.0 && v[7] <= 1.0))
+      return fail("grip out of range (got '" + field + "', expected 0 (open) to 1 (closed))");
     const Quat q = quat_from_rpy_deg(v[4], v[5], v[6]);
     char row[256];
-    std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g,%.17g,%.17g,%.17g,%.17g\n", v[0],
+    std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g,%.17g,%.17g,%.17g,%.17g", v[0],
                   v[1] * 1e-3, v[2] * 1e-3, v[3] * 1e-3, q.w(), q.x(), q.y(), q.z());
     si << row;
+    if (fields_expected == 8) {
+      std::snprintf(row, sizeof row, ",%.17g", v[7]);
+      si << row;
+    }
+    si << '\n';
   }
   if (!header_seen) return fail(std::string("missing header (expected '") + kHeader + "')");
   return Trajectory::parse_csv(si.str(), name + " (converted)", error);
@@ -80,7 +96,7 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
 Trajectory sample_waypoints(const Trajectory& waypoints, double rate_hz) {
   const auto& w = waypoints.samples();
   std::vector<TrajectorySample> out;
-  if (w.empty()) return Trajectory(out);
+  if (w.empty()) return Trajectory(out, waypoints.has_grip());
   const double dt = 1.0 / rate_hz;
   const double t0 = w.front().t_s;
   const double t1 = w.back().t_s;
@@ -98,10 +114,10 @@ Trajectory sample_waypoints(const Trajectory& waypoints, double rate_hz) {
     Pose p;
     p.position = a.pose.position + s * (b.pose.position - a.pose.position);
     p.orientation = a.pose.orientation.slerp(s, b.pose.orientation).normalized();
-    out.push_back({t, p});
+    out.push_back({t, p, a.grip + s * (b.grip - a.grip)});
   }
-  if (out.back().t_s < t1 - 1e-12) out.push_back({t1, w.back().pose});
-  return Trajectory(std::move(out));
+  if (out.back().t_s < t1 - 1e-12) out.push_back({t1, w.back().pose, w.back().grip});
+  return Trajectory(std::move(out), waypoints.has_grip());
 }
 
 }  // namespace acdr

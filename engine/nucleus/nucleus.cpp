@@ -56,6 +56,7 @@
 // a millimetre per step cannot jump over a particle (the exit side is the side it came from).
 #include "engine/nucleus/nucleus.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cstddef>
 #include <cstdint>
@@ -163,6 +164,62 @@ std::span<const std::uint8_t> Nucleus::bond_alive() const { return state_.bond_a
 std::span<const std::int32_t> Nucleus::bond_particles() const { return model_.bonds.ij; }
 void Nucleus::set_fixed_velocity(std::size_t i, const Vec3& v) { state_.fixed_v[i] = v; }
 void Nucleus::set_gravity(const Vec3& g) { model_.gravity = g; }
+
+bool Nucleus::is_kinematic(std::size_t i) const { return state_.kinematic[i] != 0; }
+
+void Nucleus::set_kinematic(std::size_t i, bool kinematic) {
+  NucleusState& s = state_;
+  const auto id = static_cast<std::int32_t>(i);
+  if (model_.fixed[i] || (s.kinematic[i] != 0) == kinematic) return;
+  auto& list = s.kinematic_list;  // ascending; capacity N reserved at build
+  if (kinematic) {
+    s.kinematic[i] = 1;
+    list.insert(std::lower_bound(list.begin(), list.end(), id), id);
+    s.fixed_v[i] = s.v[i];
+    if (s.awake[i]) {
+      // Out of the awake list (kept ascending); the update of the Verlet rows notes its
+      // displacement from now on through the kinematic list.
+      s.awake[i] = 0;
+      const auto first = s.active.begin();
+      const auto last = first + static_cast<std::ptrdiff_t>(s.active_count);
+      std::copy(std::upper_bound(first, last, id), last, std::lower_bound(first, last, id));
+      --s.active_count;
+    }
+    s.calm[i] = 0;
+    return;
+  }
+  s.kinematic[i] = 0;
+  list.erase(std::lower_bound(list.begin(), list.end(), id));
+  s.v[i] = s.fixed_v[i];
+  s.fixed_v[i] = Vec3::Zero();
+  // Its displacement since the rows were built stays in their rebuild test until it is awake
+  // (as for a particle falling asleep, nucleus_sleep.cpp).
+  VerletRows& rows = work_.rows;
+  const double d2 = min_image(model_, s.x[i] - rows.x_built[i]).squaredNorm();
+  if (!(d2 <= rows.frozen_disp2[1])) {
+    rows.frozen_disp2[1] = d2;
+    if (!(rows.frozen_disp2[1] <= rows.frozen_disp2[0]))
+      std::swap(rows.frozen_disp2[0], rows.frozen_disp2[1]);
+  }
+  if (!s.wake_next[i]) {
+    s.wake_next[i] = 1;
+    s.wake_list[s.wake_count++] = id;
+  }
+}
+
+Vec3 Nucleus::bond_pull_N(std::size_t i) const {
+  const BondTable& bonds = model_.bonds;
+  const auto id = static_cast<std::int32_t>(i);
+  Vec3 f = Vec3::Zero();
+  for (std::int32_t a = bonds.adj_start[i]; a < bonds.adj_start[i + 1]; ++a) {
+    const std::int32_t b = bonds.adj[a];
+    if (!state_.bond_alive[b]) continue;
+    const Vec3 d = min_image(model_, state_.x[bonds.other(b, id)] - state_.x[i]);
+    const double r = d.norm();
+    if (r > 0.0) f += bonds.k[b] * (r - bonds.rest[b]) / r * d;
+  }
+  return f;
+}
 std::size_t Nucleus::pair_count() const { return work_.pairs.count; }
 double Nucleus::spacing_m() const { return model_.h; }
 

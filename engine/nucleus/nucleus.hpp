@@ -85,6 +85,15 @@ class Nucleus {
   std::span<const std::int32_t> bond_particles() const;  ///< 2 per bond: i, j
   /// Velocity of a fixed (kinematic) particle; it moves with it. Ignored for free particles.
   void set_fixed_velocity(std::size_t i, const Vec3& v_m_s);
+  /// Takes particle i out of the solve (kinematic: it moves at its set_fixed_velocity, its
+  /// bonds stretch and break against the free particles, as a grasped piece of gel), or gives
+  /// it back (free again, awake at the next step with the velocity it last moved at). Between
+  /// steps only; allocates nothing. Particles fixed by the scene stay fixed.
+  void set_kinematic(std::size_t i, bool kinematic);
+  bool is_kinematic(std::size_t i) const;
+  /// The pull of particle i's intact bonds built with the lattice on it (N): the sum of
+  /// k (r - L) along the bond toward the other particle, at the current positions.
+  Vec3 bond_pull_N(std::size_t i) const;
   void set_gravity(const Vec3& gravity_m_s2);
   std::size_t pair_count() const;               ///< interaction pairs in the last step
   /// Mechanical energy, J: kinetic + gravitational (zero at the origin) + bond springs +

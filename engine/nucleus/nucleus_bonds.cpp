@@ -31,7 +31,7 @@ void break_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspac
       else release_reformed_bond(state, work.rows, s);
       ++state.broken_bonds;
       for (const std::int32_t e : {i, j}) {
-        if (model.fixed[e] || state.wake_next[e]) continue;
+        if (state.kinematic[e] || state.wake_next[e]) continue;
         state.wake_next[e] = 1;
         state.wake_list[state.wake_count++] = e;
       }
@@ -44,11 +44,19 @@ void break_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspac
   for (std::size_t p = pairs.cap - pairs.far_awake; p < pairs.cap; ++p)
     if (pairs.bond[p] >= 0) test(pairs.bond[p]);
   for (std::size_t k = 0; k < loose.count; ++k) test(loose.bond[k]);
-  // Fixed particles move too: all their bonds (one shared with an awake particle is tested
-  // again, with the same result). Re-formed bonds never join a fixed particle.
-  for (const std::int32_t u : model.fixed_list)
+  // Kinematic particles move too: all their bonds (one shared with an awake particle is tested
+  // again, with the same result). Re-formed bonds never join a particle fixed by the model,
+  // but one a grasp holds may have had some before it was taken.
+  const bool any_reformed = reformed.capacity() > 0;
+  for (const std::int32_t u : state.kinematic_list) {
     for (std::int32_t a = model.bonds.adj_start[u]; a < model.bonds.adj_start[u + 1]; ++a)
       test(model.bonds.adj[a]);
+    if (!any_reformed) continue;
+    for (int q = 0; q < ReformedBonds::kPerParticle; ++q) {
+      const std::int32_t s = reformed.of[static_cast<std::size_t>(u) * ReformedBonds::kPerParticle + q];
+      if (s >= 0) test(nb + s);
+    }
+  }
 }
 
 }  // namespace acdr::nucleus

@@ -104,7 +104,7 @@ void reform_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspa
     if (pairs.bond[p] >= 0) continue;
     const std::int32_t li = pairs.i[p], lj = pairs.j[p];
     const std::int32_t i = step.global[li], j = step.global[lj];
-    if (model.material[i] != model.material[j] || model.fixed[i] || model.fixed[j]) continue;
+    if (model.material[i] != model.material[j] || state.kinematic[i] || state.kinematic[j]) continue;
     const MaterialConfig& mat = materials[model.material[i]];
     if (!(mat.rebond_time_s > 0.0) || !(mat.bond_stiffness_N_m > 0.0) ||
         !(mat.bond_break_m > 0.0))

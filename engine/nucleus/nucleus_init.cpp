@@ -327,6 +327,9 @@ void init_state(const NucleusModel& model, const NucleusParticleSetup& setup,
   if (setup.velocities_m_s.size() == n) state.v = setup.velocities_m_s;
   state.f_ext.assign(n, Vec3::Zero());
   state.fixed_v.assign(n, Vec3::Zero());
+  state.kinematic = model.fixed;
+  state.kinematic_list.reserve(n);
+  state.kinematic_list = model.fixed_list;
   state.awake.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i) state.awake[i] = model.fixed[i] ? 0 : 1;
   state.active.assign(n, 0);

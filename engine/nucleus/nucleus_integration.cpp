@@ -217,7 +217,7 @@ void integrate_and_project(const NucleusModel& model, NucleusState& state,
                            const NucleusWorkspace& work, double dt,
                            std::span<const Collider> moving, std::span<BodyReaction> reactions) {
   const StepParticles& step = work.step;
-  for (const std::int32_t i : model.fixed_list) state.x[i] += dt * state.fixed_v[i];
+  for (const std::int32_t i : state.kinematic_list) state.x[i] += dt * state.fixed_v[i];
   for (std::size_t k = 0; k < step.awake_end; ++k) {
     const std::int32_t i = step.global[k];
     state.x[i] += dt * state.v[i];

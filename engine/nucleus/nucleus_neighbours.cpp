@@ -17,7 +17,7 @@ namespace acdr::nucleus {
 // the last build: a pair closer than R now was closer than R + |dx_i| + |dx_j| then, so no
 // such pair can be missing from the rows while the two largest displacements sum to less than
 // the skin (the usual test, every particle within skin / 2, is the special case of equal
-// ones; this one tolerates a few fast particles among slow ones). Only awake and fixed
+// ones; this one tolerates a few fast particles among slow ones). Only awake and kinematic
 // particles move; those that fell asleep keep the displacement they had
 // (rows.frozen_disp2).
 void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRows& rows) {
@@ -35,7 +35,7 @@ void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRo
     }
   };
   for (std::size_t k = 0; k < state.active_count; ++k) note(state.active[k]);
-  for (const std::int32_t i : model.fixed_list) note(i);
+  for (const std::int32_t i : state.kinematic_list) note(i);
   rows.disp_bound = std::sqrt(m1) + std::sqrt(m2);
   const bool rebuild = !rows.grid_valid || !(rows.disp_bound < model.skin);
   if (!rebuild) return;
@@ -225,7 +225,7 @@ class PairBuilder {
           step_.local[j] = lj;
           step_.global[lj] = j;
         }
-        if (moving_i && lj >= static_cast<std::int32_t>(step_.awake_end) && !model_.fixed[j] &&
+        if (moving_i && lj >= static_cast<std::int32_t>(step_.awake_end) && !state_.kinematic[j] &&
             !state_.wake_next[j]) {
           state_.wake_next[j] = 1;
           state_.wake_list[state_.wake_count++] = j;
@@ -304,7 +304,7 @@ class PairBuilder {
   void note_frozen_moving() {
     step_.frozen_moving = false;
     for (std::size_t k = step_.awake_end; k < step_.outer_end; ++k)
-      step_.frozen_moving = step_.frozen_moving || model_.fixed[step_.global[k]];
+      step_.frozen_moving = step_.frozen_moving || state_.kinematic[step_.global[k]];
   }
 
  private:

@@ -12,7 +12,7 @@ namespace acdr::nucleus {
 namespace {
 
 // Initial guess: previous velocity with its constrained components replaced; frozen
-// particles hold still (fixed ones move at their prescribed velocity).
+// particles hold still (kinematic ones move at their prescribed velocity).
 void warm_start(const NucleusModel& model, NucleusState& state, const StepParticles& step,
                 const StepContacts& contacts, Vec3* v) {
   const std::size_t na = step.awake_end;
@@ -26,9 +26,9 @@ void warm_start(const NucleusModel& model, NucleusState& state, const StepPartic
   }
   for (std::size_t k = na; k < step.outer_end; ++k) {
     const std::int32_t i = step.global[k];
-    v[k] = model.fixed[i] ? state.fixed_v[i] : Vec3::Zero();
+    v[k] = state.kinematic[i] ? state.fixed_v[i] : Vec3::Zero();
   }
-  for (const std::int32_t i : model.fixed_list) state.v[i] = state.fixed_v[i];
+  for (const std::int32_t i : state.kinematic_list) state.v[i] = state.fixed_v[i];
 }
 
 }  // namespace

@@ -25,10 +25,10 @@ void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorks
   const std::size_t n = state.x.size();
   if (!model.solver.sleep_enabled) {
     // Everything that is not fixed is integrated (the "skip off" case).
-    if (state.active_count + model.fixed_list.size() != n) {
+    if (state.active_count + state.kinematic_list.size() != n) {
       state.active_count = 0;
       for (std::size_t i = 0; i < n; ++i) {
-        state.awake[i] = model.fixed[i] ? 0 : 1;
+        state.awake[i] = state.kinematic[i] ? 0 : 1;
         if (state.awake[i]) state.active[state.active_count++] = static_cast<std::int32_t>(i);
       }
     }
@@ -46,14 +46,14 @@ void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorks
   const std::int32_t near_mark = work.stamp_value;
   std::size_t woken = 0;
   auto wake = [&](std::int32_t i) {
-    if (model.fixed[i] || state.awake[i]) return;
+    if (state.kinematic[i] || state.awake[i]) return;
     state.awake[i] = 1;
     state.calm[i] = 0;
     step.global[woken++] = i;
   };
   for (const Collider& c : moving) {
     auto test = [&](std::int32_t j) {
-      if (work.stamp[j] == near_mark || model.fixed[j]) return;
+      if (work.stamp[j] == near_mark || state.kinematic[j]) return;
       if (!(signed_distance(c, state.x[j], nullptr) < sleep_d)) return;
       work.stamp[j] = near_mark;
       wake(j);

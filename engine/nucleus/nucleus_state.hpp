@@ -47,6 +47,10 @@ struct NucleusState {
   std::vector<Vec3> f_ext;    // N, external forces, N; added every step
   std::vector<Vec3> fixed_v;  // N, prescribed velocity of fixed particles, m/s
 
+  // ---- Kinematic particles: the model's fixed ones and those a grasp holds ----
+  std::vector<std::uint8_t> kinematic;        // N, 1 = moves at fixed_v, out of the solve
+  std::vector<std::int32_t> kinematic_list;   // the kinematic particles, ascending (capacity N)
+
   // ---- Sleep ----
   std::vector<std::uint8_t> awake;     // N, 1 = integrated in the coming step
   std::vector<std::int32_t> active;    // N: [0, active_count) the awake particles, ascending

@@ -2,6 +2,8 @@
 // or a cup curette (a hemispherical cup at the end of the shaft, opening sideways or angled back).
 #include "engine/rigid/instrument.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 
 namespace acdr {
@@ -20,7 +22,21 @@ InstrumentGeometry::InstrumentGeometry(const InstrumentConfig& config) : config_
 
   Collider head;
   head.body = 0;
-  if (config.shape == InstrumentShape::kPrism) {
+  if (config.has_jaws()) {
+    // Two jaw plates at the tip, placed open; world_colliders turns them to the closure.
+    Collider jaw;
+    jaw.body = 0;
+    jaw.kind = ColliderKind::kBox;
+    jaw.half_extents_m =
+        Vec3(0.5 * config.jaw_wall_m, 0.5 * config.jaw_width_m, 0.5 * config.jaw_length_m);
+    local_colliders_.clear();
+    for (int k = 0; k < kJawCount; ++k) {
+      jaw.pose = jaw_pose(k, 0.0);
+      local_colliders_.push_back(jaw);
+    }
+    local_colliders_.push_back(shaft);
+    working_point_ = hinge() - Vec3(0, 0, 0.5 * config.jaw_length_m);
+  } else if (config.shape == InstrumentShape::kPrism) {
     // Blade hangs below the tip: its upper face at the tip, centred on the shaft axis.
     head.kind = ColliderKind::kBox;
     head.half_extents_m = 0.5 * config.blade_size_m;
@@ -39,7 +55,7 @@ InstrumentGeometry::InstrumentGeometry(const InstrumentConfig& config) : config_
         Quat(Eigen::AngleAxisd(std::numbers::pi - config.cup_opening_angle_rad, Vec3::UnitY()));
     working_point_ = head.pose.position;
   }
-  local_colliders_ = {head, shaft};
+  if (!config.has_jaws()) local_colliders_ = {head, shaft};
 
   // Mass: treated as a uniform rod from grip to tip (the handle above the grip is held by the
   // hand and not simulated); inertia of a slender rod about its centre.
@@ -51,7 +67,8 @@ InstrumentGeometry::InstrumentGeometry(const InstrumentConfig& config) : config_
 }
 
 void InstrumentGeometry::world_colliders(const Pose& grip, const Vec3& v_grip, const Vec3& omega,
-                                         std::vector<Collider>& out) const {
+                                         std::vector<Collider>& out, double closure,
+                                         double closure_rate_1_s) const {
   out.resize(local_colliders_.size());
   for (std::size_t i = 0; i < local_colliders_.size(); ++i) {
     Collider c = local_colliders_[i];
@@ -61,6 +78,53 @@ void InstrumentGeometry::world_colliders(const Pose& grip, const Vec3& v_grip, c
     c.angular_velocity_rad_s = omega;
     out[i] = c;
   }
+  if (!config_.has_jaws()) return;
+  // The jaws at the closure, turning about the hinge on top of the body's motion.
+  const Vec3 hinge_w = grip.apply(hinge());
+  for (int k = 0; k < kJawCount; ++k) {
+    const Pose local = jaw_pose(k, closure);
+    Collider& c = out[k];
+    c.pose.position = grip.apply(local.position);
+    c.pose.orientation = grip.orientation * local.orientation;
+    const Vec3 w_jaw = grip.orientation * jaw_angular_velocity(k, closure_rate_1_s);
+    c.linear_velocity_m_s = v_grip + omega.cross(c.pose.position - grip.position) +
+                            w_jaw.cross(c.pose.position - hinge_w);
+    c.angular_velocity_rad_s = omega + w_jaw;
+  }
+}
+
+// Jaw k (sign s = +1 for the jaw on the +x side, -1 for the other) turns about body y at the
+// hinge by s * a, a = half the opening times (1 - closure); a turn of -a about y takes the
+// jaw's direction (0, 0, -1) to (sin a, 0, -cos a), so the +x jaw opens toward +x. Its plate's
+// inner face stands at s * depth in the jaw's own frame.
+Pose InstrumentGeometry::jaw_pose(int k, double closure) const {
+  const double s = k == 0 ? 1.0 : -1.0;
+  const double a = 0.5 * config_.jaw_opening_rad * (1.0 - std::clamp(closure, 0.0, 1.0));
+  const Quat turn(Eigen::AngleAxisd(-s * a, Vec3::UnitY()));
+  const Vec3 centre(s * (config_.jaw_depth_m + 0.5 * config_.jaw_wall_m), 0.0,
+                    -0.5 * config_.jaw_length_m);
+  return Pose{hinge() + turn * centre, turn};
+}
+
+// d(angle)/dt = -s * (-half opening) * closure rate about y: closing turns each jaw toward
+// the axis.
+Vec3 InstrumentGeometry::jaw_angular_velocity(int k, double closure_rate_1_s) const {
+  const double s = k == 0 ? 1.0 : -1.0;
+  return Vec3(0.0, s * 0.5 * config_.jaw_opening_rad * closure_rate_1_s, 0.0);
+}
+
+bool InstrumentGeometry::between_jaws(const Vec3& body_p, double closure) const {
+  if (!config_.has_jaws()) return false;
+  for (int k = 0; k < kJawCount; ++k) {
+    const double s = k == 0 ? 1.0 : -1.0;
+    const Pose jaw = jaw_pose(k, closure);
+    // In the jaw's frame with the hinge at the origin.
+    const Vec3 q = jaw.orientation.conjugate() * (body_p - hinge());
+    if (s * q.x() > config_.jaw_depth_m) return false;  // beyond the inner face
+    if (std::abs(q.y()) > 0.5 * config_.jaw_width_m) return false;
+    if (q.z() > 0.0 || q.z() < -config_.jaw_length_m) return false;
+  }
+  return true;
 }
 
 }  // namespace acdr

@@ -8,7 +8,7 @@
 
 namespace acdr {
 
-enum class InstrumentShape { kPrism, kCupCurette };
+enum class InstrumentShape { kPrism, kCupCurette, kRongeur };
 
 /// The hand instrument. Its body frame has its origin at the grip point G (where the device
 /// holds it); the shaft runs from G along local -z to the working tip T = (0, 0, -shaft_length).
@@ -30,7 +30,22 @@ struct InstrumentConfig {
   /// rad. pi/2 opens sideways (a straight curette); larger angles turn the opening back toward
   /// the handle, as on an angled (reverse) curette, so a pull stroke loads the cup's floor.
   double cup_opening_angle_rad = 0.5 * std::numbers::pi;
+  /// Pituitary rongeur: two cup jaws hinged at the shaft's tip, opening in the body x-z plane
+  /// (one jaw toward +x, the other toward -x), each a plate of `jaw_wall_m` whose inner face
+  /// stands `jaw_depth_m` off the shaft axis when closed, so closed jaws enclose a space
+  /// 2 depth x width x length. Straight cervical rongeurs have 2-4 mm jaws (docs/anatomy.md).
+  double jaw_length_m = 6.0e-3;    ///< from the hinge at the tip to the jaw's end, along -z
+  double jaw_width_m = 3.0e-3;     ///< across the jaw, along body y
+  double jaw_depth_m = 1.0e-3;     ///< each jaw's cup depth: axis to its inner face, closed
+  double jaw_wall_m = 0.4e-3;      ///< jaw plate thickness
+  double jaw_opening_rad = 50.0 * std::numbers::pi / 180.0;  ///< angle between open jaws
+  double jaw_close_time_s = 0.2;   ///< fastest full closing or opening by the hand
+  /// Closure at and above which the jaws hold what is between them, and at and below which
+  /// they let it go (the gap between the two keeps a grip from flickering).
+  double jaw_hold_closure = 0.9;
+  double jaw_release_closure = 0.5;
 
+  bool has_jaws() const { return shape == InstrumentShape::kRongeur; }
   /// Bending moment at which the shaft yields: M_yield = sigma_y * pi * d^3 / 32.
   double yield_moment_Nm() const;
 };

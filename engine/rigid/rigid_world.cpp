@@ -159,6 +159,12 @@ RigidWorld::~RigidWorld() {
 
 bool RigidWorld::has_instrument() const { return impl_->instrument != nullptr; }
 
+void RigidWorld::set_instrument_part(int index, const Pose& local) {
+  Pose relative = local;
+  relative.position -= impl_->com_in_grip.position;  // child transforms are about the centre of mass
+  impl_->instrument_shape->updateChildTransform(index, to_bt(relative), true);
+}
+
 Pose RigidWorld::instrument_grip() const {
   const btTransform& xf = impl_->instrument->getWorldTransform();
   Pose com{from_bt(xf.getOrigin()), from_bt(xf.getRotation())};

@@ -46,6 +46,10 @@ class RigidWorld {
   /// world by dt; returns the contact the instrument made.
   RigidContact step(double dt, const Vec3& force_N, const Vec3& torque_Nm);
 
+  /// Moves part `index` of the instrument (its local collider of that index) to a new pose in
+  /// the body frame, for parts that move on the body (a rongeur's jaws).
+  void set_instrument_part(int index, const Pose& local);
+
   /// Places the instrument (grip pose) at rest, e.g. at the start.
   void place_instrument(const Pose& grip);
 

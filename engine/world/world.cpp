@@ -87,6 +87,11 @@ World::World(const WorldConfig& config)
     nucleus_ = std::make_unique<Nucleus>(config_.nucleus, solver, config_.gravity_m_s2,
                                          static_colliders_, options);
   }
+  if (instrument_ && nucleus_ && config_.instrument.has_jaws()) {
+    // The jaws can hold at most every particle: the lists never grow inside a step.
+    held_.reserve(nucleus_->particle_count());
+    held_local_.reserve(nucleus_->particle_count());
+  }
   if (instrument_) {
     rigid_->place_instrument(config_.instrument_start);
     moving_.reserve(instrument_->local_colliders().size());
@@ -164,6 +169,91 @@ void World::read_input(const DeviceSample& sample, StepData& s) {
   s.target.angular_velocity_rad_s =
       rotation_between(last_target_orientation_, in.target.orientation) / config_.solver.dt_s;
   last_target_orientation_ = in.target.orientation;
+  if (instrument_ && config_.instrument.has_jaws()) update_jaws(sample);
+}
+
+// The jaws follow the hand's grip no faster than a full closing in jaw_close_time_s (a button
+// is all or nothing; the jaws are not), and Bullet's copies of them move with them. A silent
+// device holds the jaws where they are.
+void World::update_jaws(const DeviceSample& sample) {
+  const double dt = config_.solver.dt_s;
+  const double target =
+      sample.stale || !std::isfinite(sample.grip) ? jaw_closure_ : std::clamp(sample.grip, 0.0, 1.0);
+  const double step_max = dt / std::max(config_.instrument.jaw_close_time_s, dt);
+  const double next = jaw_closure_ + std::clamp(target - jaw_closure_, -step_max, step_max);
+  jaw_rate_ = (next - jaw_closure_) / dt;
+  if (next == jaw_closure_) return;
+  jaw_closure_ = next;
+  for (int k = 0; k < InstrumentGeometry::kJawCount; ++k)
+    rigid_->set_instrument_part(k, instrument_->jaw_pose(k, jaw_closure_));
+}
+
+// A grasp: each time the closing jaws reach jaw_hold_closure, every particle between them is
+// taken out of the solve (those already held stay held) and carried with the instrument where
+// it lies in the body frame; when the opening jaws reach jaw_release_closure, the held
+// particles go free where they are, moving with the jaws (Nucleus::set_kinematic). Jaws opened
+// less than that and closed again bite once more and keep what they held.
+void World::grasp_or_release(const Pose& grip) {
+  const InstrumentConfig& ic = config_.instrument;
+  const bool closed = jaw_closure_ >= ic.jaw_hold_closure;
+  const bool bite = closed && !jaws_were_closed_;
+  jaws_were_closed_ = closed;
+  if (bite) {
+    const auto x = nucleus_->positions();
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const Vec3 local = grip.inverse_apply(x[i]);
+      if (nucleus_->is_kinematic(i) || !instrument_->between_jaws(local, jaw_closure_)) continue;
+      nucleus_->set_kinematic(i, true);
+      held_.push_back(static_cast<std::int32_t>(i));
+      held_local_.push_back(local);
+    }
+  } else if (!held_.empty() && jaw_closure_ <= ic.jaw_release_closure) {
+    for (const std::int32_t i : held_) nucleus_->set_kinematic(static_cast<std::size_t>(i), false);
+    held_.clear();
+    held_local_.clear();
+  }
+}
+
+// The held particles' velocities over the coming particle step: each goes to where its place
+// in the body frame will be if the body moves on at its current velocities (the colliders'
+// assumption too), so they stay on the body without drift. Their change of momentum is part
+// of what they do to the instrument (add_held_reaction).
+void World::carry_held(const Pose& grip, const Vec3& v_grip, const Vec3& omega) {
+  const double dt = nucleus_dt_s();
+  const auto x = nucleus_->positions();
+  const auto v = nucleus_->velocities();
+  const auto m = nucleus_->masses();
+  held_momentum_change_ = Vec3::Zero();
+  held_momentum_moment_ = Vec3::Zero();
+  for (std::size_t k = 0; k < held_.size(); ++k) {
+    const auto i = static_cast<std::size_t>(held_[k]);
+    const Vec3 p = grip.apply(held_local_[k]);
+    const Vec3 p_end = p + dt * (v_grip + omega.cross(p - grip.position));
+    const Vec3 v_new = (p_end - x[i]) / dt;
+    const Vec3 dp = m[i] * (v_new - v[i]);
+    held_momentum_change_ += dp;
+    held_momentum_moment_ += (x[i] - reactions_[0].reference_point).cross(dp);
+    nucleus_->set_fixed_velocity(i, v_new);
+  }
+}
+
+// What the held material does to the instrument over the particle step: its weight, the pull
+// of its bonds to the free gel (until they tear) and the force that changed its momentum,
+// added to the particles' reaction about the same reference point.
+void World::add_held_reaction(double dt) {
+  const auto x = nucleus_->positions();
+  const auto m = nucleus_->masses();
+  BodyReaction& r = reactions_[0];
+  Vec3 f_sum = -held_momentum_change_ / dt;
+  Vec3 t_sum = -held_momentum_moment_ / dt;
+  for (const std::int32_t id : held_) {
+    const auto i = static_cast<std::size_t>(id);
+    const Vec3 f = m[i] * config_.gravity_m_s2 + nucleus_->bond_pull_N(i);
+    f_sum += f;
+    t_sum += (x[i] - r.reference_point).cross(f);
+  }
+  r.force_N += f_sum;
+  r.torque_Nm += t_sum;
 }
 
 // nucleus: the particles step against the instrument at its current pose and velocity, and
@@ -185,9 +275,13 @@ void World::step_nucleus() {
     const Vec3 omega = rigid_->instrument_angular_velocity();
     const Vec3 v_com = rigid_->instrument_com_velocity();
     const Vec3 v_grip = v_com + omega.cross(grip.position - com);
-    instrument_->world_colliders(grip, v_grip, omega, moving_);
     reactions_[0] = BodyReaction{};
     reactions_[0].reference_point = com;
+    if (nucleus_ && config_.instrument.has_jaws()) {
+      grasp_or_release(grip);
+      carry_held(grip, v_grip, omega);
+    }
+    instrument_->world_colliders(grip, v_grip, omega, moving_, jaw_closure_, jaw_rate_);
     held_point_velocity_ = v_com;  // the reference point is the centre of mass here
     held_angular_velocity_ = omega;
     moving = moving_;
@@ -196,6 +290,7 @@ void World::step_nucleus() {
   if (!nucleus_) return;
   NumericalReport report;
   nucleus_->step(nucleus_dt_s(), moving, reactions, report);
+  if (!held_.empty()) add_held_reaction(nucleus_dt_s());
   frame_.solver_iterations = report.iterations;
   if (!report.ok && !failed_) {
     emit(EventKind::kNumerical, report.residual, report.stage);
@@ -247,7 +342,7 @@ void World::step_instrument(StepData& s) {
   // the instrument presses on tissue (bone contact and nucleus).
   if (anatomy_) {
     instrument_->world_colliders(grip, grip_velocity, rigid_->instrument_angular_velocity(),
-                                 moving_);
+                                 moving_, jaw_closure_, jaw_rate_);
     evaluate_zones_and_emit(s.contact.force_N + s.nucleus_force_N);
   }
 

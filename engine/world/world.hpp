@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "engine/anatomy/anatomy.hpp"
@@ -90,6 +91,10 @@ class World {
   const std::vector<Collider>& static_colliders() const { return static_colliders_; }
   /// Instrument colliders at the current pose (empty without an instrument).
   const std::vector<Collider>& instrument_colliders() const { return moving_; }
+  /// The instrument's jaw closure, 0 open .. 1 closed (0 without jaws).
+  double jaw_closure() const { return jaw_closure_; }
+  /// The particles the jaws hold now (empty unless a rongeur's jaws are closed on some).
+  std::span<const std::int32_t> held_particles() const { return held_; }
   /// Particle i has left the removal region.
   bool is_removed(std::size_t i) const;
   /// FNV-1a over the nucleus and instrument state, for determinism checks.
@@ -111,6 +116,10 @@ class World {
   void send_feedback(StepData& s);
   void record(const StepData& s);
 
+  void update_jaws(const DeviceSample& sample);
+  void grasp_or_release(const Pose& grip);
+  void carry_held(const Pose& grip, const Vec3& v_grip, const Vec3& omega);
+  void add_held_reaction(double dt);
   void check_shaft_load(const Pose& grip, const Vec3& nucleus_moment_Nm,
                         const RigidContact& contact);
   void evaluate_zones_and_emit(const Vec3& tissue_force_N);
@@ -141,6 +150,15 @@ class World {
   // about them): of the reaction's reference point, and angular.
   Vec3 held_point_velocity_ = Vec3::Zero();
   Vec3 held_angular_velocity_ = Vec3::Zero();
+  // Rongeur jaws: the closure (0 open .. 1 closed), its rate this step (1/s), and what they
+  // hold: particle indices and their places in the body frame (capacity N, fixed at build).
+  double jaw_closure_ = 0.0;
+  double jaw_rate_ = 0.0;
+  bool jaws_were_closed_ = false;  // at or above jaw_hold_closure at the last particle step
+  std::vector<std::int32_t> held_;
+  std::vector<Vec3> held_local_;
+  Vec3 held_momentum_change_ = Vec3::Zero();  // over the particle step, kg m/s
+  Vec3 held_momentum_moment_ = Vec3::Zero();  // its moment about the reaction's reference point
   bool failed_ = false;
   bool input_rejecting_ = false;
   bool input_lost_ = false;

@@ -147,6 +147,12 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.instrument.cup_depth_m, 0.0015, kTol);
   EXPECT_NEAR(w.instrument.cup_wall_m, 0.0003, kTol);
   EXPECT_NEAR(w.instrument.cup_opening_angle_rad, 120.0 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(w.instrument.jaw_length_m, 0.008, kTol);
+  EXPECT_NEAR(w.instrument.jaw_width_m, 0.002, kTol);
+  EXPECT_NEAR(w.instrument.jaw_depth_m, 0.0008, kTol);
+  EXPECT_NEAR(w.instrument.jaw_wall_m, 0.0003, kTol);
+  EXPECT_NEAR(w.instrument.jaw_opening_rad, 40.0 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(w.instrument.jaw_close_time_s, 0.3, 1e-12);
   // 30 degrees about +y.
   const Quat expected(std::cos(M_PI / 12), 0.0, std::sin(M_PI / 12), 0.0);
   EXPECT_TRUE(w.instrument_start.orientation.isApprox(expected, 1e-12));
@@ -214,6 +220,13 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(in.cup_diameter_m, id.cup_diameter_m);
   EXPECT_NE(in.cup_depth_m, id.cup_depth_m);
   EXPECT_NE(in.cup_wall_m, id.cup_wall_m);
+  EXPECT_NE(in.cup_opening_angle_rad, id.cup_opening_angle_rad);
+  EXPECT_NE(in.jaw_length_m, id.jaw_length_m);
+  EXPECT_NE(in.jaw_width_m, id.jaw_width_m);
+  EXPECT_NE(in.jaw_depth_m, id.jaw_depth_m);
+  EXPECT_NE(in.jaw_wall_m, id.jaw_wall_m);
+  EXPECT_NE(in.jaw_opening_rad, id.jaw_opening_rad);
+  EXPECT_NE(in.jaw_close_time_s, id.jaw_close_time_s);
   const CouplingConfig& cd = d.world.coupling;
   EXPECT_NE(w.coupling.stiffness_N_m, cd.stiffness_N_m);
   EXPECT_NE(w.coupling.damping_Ns_m, cd.damping_Ns_m);
@@ -465,6 +478,44 @@ TEST(ScenarioLoaderErrors, RangeChecksOfManyKinds) {
   }
   // Errors come sorted by line.
   for (std::size_t i = 1; i < errors.size(); ++i) EXPECT_LE(errors[i - 1].line, errors[i].line);
+}
+
+TEST(ScenarioLoader, RongeurShapeAndJaws) {
+  std::string text = box_module_text();
+  text = replace_once(text, "\"shape\": \"prism\"",
+                      "\"shape\": \"rongeur\", \"jaw_length_mm\": 5, "
+                      "\"jaw_width_mm\": 2.5, \"jaw_depth_mm\": 0.9, \"jaw_opening_angle_deg\": 45");
+  const LoadResult r = load_scenario_text(text, "m.json");
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  const InstrumentConfig& in = r.model->world.instrument;
+  EXPECT_EQ(in.shape, InstrumentShape::kRongeur);
+  EXPECT_TRUE(in.has_jaws());
+  EXPECT_NEAR(in.jaw_length_m, 0.005, kTol);
+  EXPECT_NEAR(in.jaw_width_m, 0.0025, kTol);
+  EXPECT_NEAR(in.jaw_depth_m, 0.0009, kTol);
+  EXPECT_NEAR(in.jaw_opening_rad, 45.0 * M_PI / 180.0, 1e-12);
+}
+
+TEST(ScenarioLoaderErrors, RongeurJawsOutOfShapeOrRange) {
+  std::string text = box_module_text();
+  text = replace_once(text, "\"shape\": \"prism\"",
+                      "\"shape\": \"rongeur\", \"jaw_length_mm\": 2,\n"
+                      "\"jaw_depth_mm\": 1.8,\n\"jaw_opening_angle_deg\": 150");
+  const auto errors = errors_of(text);
+  const ScenarioError* deep = find_error(errors, "/world/instrument/jaw_depth_mm");
+  ASSERT_NE(deep, nullptr);
+  EXPECT_EQ(deep->line, line_of(text, "jaw_depth_mm"));
+  EXPECT_EQ(deep->message, "rongeur jaws deeper than long (got depth 1.8 mm + wall 0.4 mm, length "
+                           "2 mm, expected depth + wall < length)");
+  const ScenarioError* wide = find_error(errors, "/world/instrument/jaw_opening_angle_deg");
+  ASSERT_NE(wide, nullptr);
+  EXPECT_EQ(wide->message, "out of range (got 150 deg, expected >= 5 deg and <= 120 deg)");
+  // An unknown shape names the three.
+  const auto shape = errors_of(replace_once(box_module_text(), "\"shape\": \"prism\"",
+                                            "\"shape\": \"forceps\""));
+  const ScenarioError* s = find_error(shape, "/world/instrument/shape");
+  ASSERT_NE(s, nullptr);
+  EXPECT_NE(s->message.find("\"rongeur\""), std::string::npos) << s->message;
 }
 
 TEST(ScenarioLoaderErrors, EmptiedArrayIsReported) {

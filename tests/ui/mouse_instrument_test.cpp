@@ -81,6 +81,19 @@ TEST(MouseInstrument, OneFrameMovesTheGoalAtMostItsCapAndHoldFreezes) {
   EXPECT_EQ(apply_mouse_input(start, in, looking_north()).position, start.position);
 }
 
+TEST(MouseInstrument, TheGripKeyClosesTheJawsInTheSamples) {
+  MouseInstrumentDevice device{Pose{}};
+  DeviceSample s;
+  ASSERT_TRUE(device.sample(0.001, s));
+  EXPECT_EQ(s.grip, 0.0);
+  device.set_grip(1.0);
+  ASSERT_TRUE(device.sample(0.002, s));
+  EXPECT_EQ(s.grip, 1.0);
+  device.set_grip(0.0);
+  ASSERT_TRUE(device.sample(0.003, s));
+  EXPECT_EQ(s.grip, 0.0);
+}
+
 TEST(MouseInstrument, DeviceFollowsTheGoalAtItsSpeedAndGivesTheEnd) {
   Pose start;
   start.position = Vec3(0, 0, 0.1);

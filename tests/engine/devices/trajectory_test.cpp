@@ -128,6 +128,67 @@ TEST(Trajectory, SaveLoadRoundTrip) {
   EXPECT_NEAR(back->samples()[1].pose.position.z(), -0.03, 1e-12);
 }
 
+TEST(Trajectory, ReadsAnOptionalGripColumn) {
+  std::string error;
+  auto t = Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip\n0,0,0,0,1,0,0,0,0\n1,0,0,0,1,0,0,0,1\n", "g.csv", &error);
+  ASSERT_TRUE(t) << error;
+  EXPECT_TRUE(t->has_grip());
+  EXPECT_DOUBLE_EQ(t->grip_at(0.25), 0.25);
+  EXPECT_DOUBLE_EQ(t->grip_at(5.0), 1.0);
+  // Played back, the grip reaches the device sample.
+  TrajectoryReplay replay(*t);
+  DeviceSample s;
+  replay.sample(0.5, s);
+  EXPECT_DOUBLE_EQ(s.grip, 0.5);
+  // Files without the column read as before: the jaws stay open.
+  auto plain = Trajectory::parse_csv(kTwoSamples, "mem.csv", &error);
+  ASSERT_TRUE(plain) << error;
+  EXPECT_FALSE(plain->has_grip());
+  EXPECT_DOUBLE_EQ(plain->grip_at(0.5), 0.0);
+  // Saved and loaded again, the column stays.
+  const std::string path = ::testing::TempDir() + "/grip.csv";
+  ASSERT_TRUE(t->save_csv(path, &error)) << error;
+  auto back = Trajectory::load_csv(path, &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_TRUE(back->has_grip());
+  EXPECT_DOUBLE_EQ(back->samples()[1].grip, 1.0);
+}
+
+TEST(Trajectory, GripErrorsNameFileLineAndValue) {
+  std::string error;
+  EXPECT_FALSE(Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip\n0,0,0,0,1,0,0,0,0\n1,0,0,0,1,0,0,0,1.5\n", "g.csv", &error));
+  EXPECT_NE(error.find("g.csv:3: grip out of range (got 1.5, expected 0 (open) to 1 (closed))"),
+            std::string::npos)
+      << error;
+  // A grip value under a header without the column is one field too many.
+  EXPECT_FALSE(Trajectory::parse_csv("t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0,0,0,0,1,0,0,0,1\n", "h.csv",
+                                     &error));
+  EXPECT_NE(error.find("h.csv:2: too many fields (expected 8)"), std::string::npos) << error;
+  // The column announced but missing on a row.
+  EXPECT_FALSE(Trajectory::parse_csv("t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip\n0,0,0,0,1,0,0,0\n",
+                                     "m.csv", &error));
+  EXPECT_NE(error.find("m.csv:2: expected 9 fields, got 8"), std::string::npos) << error;
+}
+
+TEST(WaypointPath, PassesTheGripThroughAlongTheMinimumJerkProfile) {
+  std::string error;
+  auto w = parse_waypoints(
+      "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,grip\n0,0,0,0,0,0,0,0\n1,10,0,0,0,0,0,1\n",
+      "w.csv", &error);
+  ASSERT_TRUE(w) << error;
+  const Trajectory t = sample_waypoints(*w, 1000.0);
+  EXPECT_TRUE(t.has_grip());
+  EXPECT_NEAR(t.grip_at(0.5), 0.5, 1e-9);     // half way, as the position
+  EXPECT_LT(t.grip_at(0.1), 0.1);              // starts slowly
+  EXPECT_DOUBLE_EQ(t.grip_at(1.0), 1.0);
+  EXPECT_FALSE(parse_waypoints(
+      "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,grip\n# c\n0,0,0,0,0,0,0,-0.5\n", "w.csv",
+      &error));
+  EXPECT_NE(error.find("w.csv:3: grip out of range (got '-0.5'"), std::string::npos) << error;
+}
+
 TEST(WaypointPath, MinimumJerkStartsAndStopsAtRest) {
   std::string error;
   auto w = parse_waypoints(

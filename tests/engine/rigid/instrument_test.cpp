@@ -65,5 +65,51 @@ TEST(Instrument, AngledCupOpensBackTowardTheGrip) {
   EXPECT_EQ(cup.pose.position, InstrumentGeometry(straight).local_colliders()[0].pose.position);
 }
 
+TEST(Instrument, RongeurJawsCloseAboutTheHingeAndEncloseTheBite) {
+  InstrumentConfig c;
+  c.shape = InstrumentShape::kRongeur;
+  c.shaft_length_m = 0.08;
+  c.jaw_length_m = 6e-3;
+  c.jaw_width_m = 3e-3;
+  c.jaw_depth_m = 1e-3;
+  c.jaw_wall_m = 0.4e-3;
+  c.jaw_opening_rad = 50.0 * std::numbers::pi / 180.0;
+  InstrumentGeometry g(c);
+  ASSERT_EQ(g.local_colliders().size(), 3u);  // two jaws and the shaft
+  EXPECT_EQ(g.local_colliders()[2].kind, ColliderKind::kCapsule);
+  EXPECT_NEAR(g.working_point().z(), -0.083, 1e-12);
+  // Closed, the jaws' plates stand parallel to the shaft at +-(depth + wall / 2).
+  const Pose up = g.jaw_pose(0, 1.0), down = g.jaw_pose(1, 1.0);
+  EXPECT_NEAR(up.position.x(), 1.2e-3, 1e-12);
+  EXPECT_NEAR(down.position.x(), -1.2e-3, 1e-12);
+  EXPECT_NEAR(up.position.z(), -0.083, 1e-12);
+  // Open, each turns half the opening away from the axis: its end at 6 mm * sin(25 deg) out.
+  const Pose open = g.jaw_pose(0, 0.0);
+  const Vec3 end_inner = open.position + open.orientation * Vec3(-0.2e-3, 0, -3e-3);
+  EXPECT_NEAR(end_inner.x(), 6e-3 * std::sin(25.0 * std::numbers::pi / 180.0) +
+                                 1e-3 * std::cos(25.0 * std::numbers::pi / 180.0), 1e-9);
+  // Between the closed jaws: inside the 2 x 3 x 6 mm bite, not beyond its faces or its end.
+  EXPECT_TRUE(g.between_jaws(Vec3(0.9e-3, 1.4e-3, -0.0855), 1.0));
+  EXPECT_FALSE(g.between_jaws(Vec3(1.1e-3, 0, -0.083), 1.0));
+  EXPECT_FALSE(g.between_jaws(Vec3(0, 1.6e-3, -0.083), 1.0));
+  EXPECT_FALSE(g.between_jaws(Vec3(0, 0, -0.0865), 1.0));
+  EXPECT_FALSE(g.between_jaws(Vec3(0, 0, -0.0795), 1.0));
+  // Open, the wedge between the jaws takes in more.
+  EXPECT_TRUE(g.between_jaws(Vec3(2.5e-3, 0, -0.085), 0.0));
+  // Closing, the jaws' plates move toward the axis: the +x jaw's centre at -x speed.
+  std::vector<Collider> world;
+  g.world_colliders(Pose{}, Vec3::Zero(), Vec3::Zero(), world, 0.5, 5.0);
+  EXPECT_LT(world[0].linear_velocity_m_s.x(), 0.0);
+  EXPECT_GT(world[1].linear_velocity_m_s.x(), 0.0);
+  // Its velocity is that of a point turning about the hinge.
+  const Vec3 w0 = g.jaw_angular_velocity(0, 5.0);
+  EXPECT_NEAR((world[0].linear_velocity_m_s - w0.cross(world[0].pose.position - g.hinge())).norm(),
+              0.0, 1e-12);
+  // Other shapes ignore the closure.
+  InstrumentConfig cup;
+  cup.shape = InstrumentShape::kCupCurette;
+  EXPECT_FALSE(InstrumentGeometry(cup).between_jaws(Vec3(0, 0, -0.082), 1.0));
+}
+
 }  // namespace
 }  // namespace acdr

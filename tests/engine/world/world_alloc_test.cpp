@@ -53,5 +53,33 @@ TEST(WorldAllocation, StepAllocatesNothing) {
   EXPECT_EQ(during, 0) << "heap allocations inside World::step";
 }
 
+// A rongeur's bite: the jaws close on the gel (particles taken out of the solve), lift it out
+// (bonds torn, the neighbour rows rebuilt as the bite leaves) and open (the particles given
+// back): nothing allocated either.
+TEST(WorldAllocation, RongeurBiteAllocatesNothing) {
+  WorldConfig c = small_box();
+  c.instrument.shape = InstrumentShape::kRongeur;
+  c.instrument.jaw_length_m = 6e-3;
+  c.instrument_start.position = Vec3(0, 0, 0.07);
+  World w(c);
+  DeviceSample s;
+  s.pose.position = Vec3(0, 0, 0.07);
+  for (int i = 0; i < 60; ++i) w.step(s);
+  const long before = test_support::heap_allocations();
+  for (int i = 0; i < 1200; ++i) {
+    const double t = i * 1e-3;
+    if (t < 0.3) s.pose.position.z() -= 4.4e-5;        // down, jaws open
+    else if (t < 0.6) s.grip = 1.0;                    // close
+    else if (t < 0.9) s.pose.position.z() += 5e-5;     // lift the bite
+    else s.grip = 0.0;                                 // open
+    w.step(s);
+  }
+  const long during = test_support::heap_allocations() - before;
+  ASSERT_FALSE(w.failed());
+  EXPECT_TRUE(w.held_particles().empty());
+  EXPECT_GT(w.last_frame().removed_target, 0);
+  EXPECT_EQ(during, 0) << "heap allocations inside World::step";
+}
+
 }  // namespace
 }  // namespace acdr

@@ -219,5 +219,112 @@ TEST(WorldSafety, LostInputHoldsTheInstrumentZeroesTheForceAndIsRecorded) {
   EXPECT_LT(f.feedback_force_N.norm(), 0.1 * before);
 }
 
+// The rongeur in the small box: 6 mm jaws at the end of the 50 mm shaft, 4 mm of nucleus.
+WorldConfig rongeur_box() {
+  WorldConfig c = small_box();
+  c.instrument.shape = InstrumentShape::kRongeur;
+  c.instrument.jaw_length_m = 6e-3;
+  c.instrument.jaw_width_m = 3e-3;
+  c.instrument.jaw_depth_m = 1e-3;
+  return c;
+}
+
+DeviceSample grip_at(double z, double grip) {
+  DeviceSample s = at(Vec3(0, 0, z));
+  s.grip = grip;
+  return s;
+}
+
+TEST(WorldGrasp, ClosedJawsCarryWhatIsBetweenThemAndOpeningLetsItGo) {
+  World w(rongeur_box());
+  const Nucleus& n = *w.nucleus();
+  // Down with the jaws open until their tips are 0.8 mm above the floor, and rest.
+  const double z0 = 0.07, z1 = 0.0568;
+  for (int i = 0; i < 300; ++i) w.step(grip_at(z0 + (z1 - z0) * (i + 1) / 300.0, 0.0));
+  for (int i = 0; i < 100; ++i) w.step(grip_at(z1, 0.0));
+  EXPECT_TRUE(w.held_particles().empty());
+  // Close: the jaws take 0.2 s (jaw_close_time_s) to follow the hand.
+  w.step(grip_at(z1, 1.0));
+  EXPECT_NEAR(w.jaw_closure(), 1e-3 / 0.2, 1e-12);
+  for (int i = 0; i < 299; ++i) w.step(grip_at(z1, 1.0));
+  EXPECT_DOUBLE_EQ(w.jaw_closure(), 1.0);
+  const std::vector<std::int32_t> held(w.held_particles().begin(), w.held_particles().end());
+  ASSERT_FALSE(held.empty());
+  std::vector<std::uint8_t> is_held(n.particle_count(), 0);
+  for (const std::int32_t i : held) {
+    EXPECT_TRUE(n.is_kinematic(static_cast<std::size_t>(i)));
+    is_held[static_cast<std::size_t>(i)] = 1;
+  }
+  // Every held particle lies between the jaws, in the body frame.
+  const Pose grip = w.last_frame().instrument;
+  for (const std::int32_t i : held) {
+    const Vec3 local = grip.inverse_apply(n.positions()[static_cast<std::size_t>(i)]);
+    EXPECT_TRUE(w.instrument()->between_jaws(local, 1.0)) << i;
+  }
+  // Lift 18 mm: the bite comes out of the box with the jaws, the rest stays in it.
+  const double z2 = 0.075;
+  for (int i = 0; i < 400; ++i) w.step(grip_at(z1 + (z2 - z1) * std::min(1.0, (i + 1) / 300.0), 1.0));
+  ASSERT_FALSE(w.failed());
+  const Pose lifted = w.last_frame().instrument;
+  std::size_t free_out = 0, free_total = 0;
+  for (std::size_t i = 0; i < n.particle_count(); ++i) {
+    const Vec3& x = n.positions()[i];
+    if (is_held[i]) {
+      EXPECT_GT(x.z(), 0.012) << "held particle " << i << " left behind";
+      // It kept its place on the jaws.
+      EXPECT_TRUE(w.instrument()->between_jaws(lifted.inverse_apply(x), 1.0)) << i;
+    } else {
+      ++free_total;
+      if (x.z() > 0.008) ++free_out;
+    }
+  }
+  EXPECT_LT(free_out, free_total / 20) << "the free gel came out with the bite";
+  EXPECT_GE(w.last_frame().removed_target, static_cast<std::int32_t>(held.size()));
+  // The hand holds the bite's weight: the nucleus's force on the instrument points down by
+  // about the held mass times g (the lift has stopped, the torn bonds no longer pull).
+  double held_mass = 0.0;
+  for (const std::int32_t i : held) held_mass += n.masses()[static_cast<std::size_t>(i)];
+  EXPECT_NEAR(w.last_frame().nucleus_force_N.z(), -held_mass * 9.80665, 0.2 * held_mass * 9.80665);
+  // Open while the hand rises at 20 mm/s: at half closure the jaws let go, and the particles
+  // are free again where they were, moving as the jaws moved.
+  std::vector<Vec3> before;
+  double z = z2;
+  bool released = false;
+  for (int i = 0; i < 300 && !released; ++i) {
+    before.clear();
+    for (const std::int32_t k : held) before.push_back(n.positions()[static_cast<std::size_t>(k)]);
+    z += 2e-5;
+    w.step(grip_at(z, 0.0));
+    released = w.held_particles().empty();
+  }
+  ASSERT_TRUE(released);
+  EXPECT_NEAR(w.jaw_closure(), 0.5, 0.006);
+  double vz = 0.0, jump = 0.0;
+  for (std::size_t k = 0; k < held.size(); ++k) {
+    const auto i = static_cast<std::size_t>(held[k]);
+    EXPECT_FALSE(n.is_kinematic(i));
+    vz += n.velocities()[i].z();
+    jump = std::max(jump, (n.positions()[i] - before[k]).norm());
+  }
+  EXPECT_NEAR(vz / static_cast<double>(held.size()), 0.02, 0.006);
+  EXPECT_LT(jump, 1e-4);
+  // They step with the free gel from then on.
+  for (int i = 0; i < 100; ++i) w.step(grip_at(z, 0.0));
+  for (const std::int32_t k : held) EXPECT_FALSE(n.is_kinematic(static_cast<std::size_t>(k)));
+  ASSERT_FALSE(w.failed());
+}
+
+TEST(WorldGrasp, OtherInstrumentsIgnoreTheGrip) {
+  World a(small_box()), b(small_box());
+  for (int i = 0; i < 200; ++i) {
+    DeviceSample s = at(Vec3(0, 0, 0.07 - 1e-4 * i));
+    a.step(s);
+    s.grip = 1.0;
+    b.step(s);
+  }
+  EXPECT_EQ(a.state_hash(), b.state_hash());
+  EXPECT_DOUBLE_EQ(b.jaw_closure(), 0.0);
+}
+
 }  // namespace
 }  // namespace acdr
