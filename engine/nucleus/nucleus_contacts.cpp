@@ -18,13 +18,21 @@ constexpr int kContactSolves = 3;
 
 }  // namespace
 
-void set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3* cn,
-                            const double* ct, int nc) {
+unsigned set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3* cn,
+                                const double* ct, int nc) {
   Vec3 e[3];
   Vec3 used_n[3];
   double used_t[3];
   int ne = 0;
+  unsigned used = 0;
   for (int a = 0; a < nc; ++a) {
+    // A wall facing one already taken (a particle squeezed between them, normals more than
+    // 120 degrees apart) is left out: the two targets cannot both hold, and solved together
+    // they asked for a large velocity along the gap and a force to match on the walls. The
+    // first wall wins (the statics come first), as in the projection after the solve.
+    bool opposed = false;
+    for (int b = 0; b < ne; ++b) opposed = opposed || used_n[b].dot(cn[a]) < -0.5;
+    if (opposed) continue;
     Vec3 u = cn[a];
     for (int b = 0; b < ne; ++b) u -= e[b] * e[b].dot(u);
     const double len = u.norm();
@@ -32,6 +40,7 @@ void set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3
     e[ne] = u / len;
     used_n[ne] = cn[a];
     used_t[ne] = ct[a];
+    used |= 1u << a;
     ++ne;
   }
   Vec3 vc = Vec3::Zero();
@@ -52,6 +61,7 @@ void set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3
   contacts.count[slot] = static_cast<std::uint8_t>(ne);
   for (int a = 0; a < ne; ++a) contacts.e[slot][a] = e[a];
   contacts.v[slot] = vc;
+  return used;
 }
 
 int contact_shares(const NucleusWorkspace& work, std::int32_t k, std::size_t w0,
@@ -101,6 +111,7 @@ int release_pulling_contacts(NucleusWorkspace& work, double dt) {
     if (contact_shares(work, k, w0, end, dt, share) > 0) {
       Vec3 cn[3];
       double ct[3];
+      WallHit* ch[3];
       int nc = 0;
       for (std::size_t h = w0; h < end; ++h) {
         WallHit& w = walls.hits[h];
@@ -111,11 +122,14 @@ int release_pulling_contacts(NucleusWorkspace& work, double dt) {
         } else if (nc < 3) {
           cn[nc] = w.normal;
           ct[nc] = w.contact_target;
+          ch[nc] = &w;
           ++nc;
         }
       }
-      set_contact_constraint(work.contacts, static_cast<std::size_t>(work.contacts.slot[k]),
-                             cn, ct, nc);
+      const unsigned used = set_contact_constraint(
+          work.contacts, static_cast<std::size_t>(work.contacts.slot[k]), cn, ct, nc);
+      for (int a = 0; a < nc; ++a)
+        if (!(used & (1u << a))) ch[a]->contact = false;
     }
     w0 = end;
   }

@@ -93,10 +93,12 @@ void reform_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspa
 // ---- Contact constraints (nucleus_contacts.cpp) ----
 
 /// Contact slot `slot`: orthonormal constrained directions (Gram-Schmidt) of the contact
-/// normals cn (nearly parallel ones left out) and the constrained velocity component in their
-/// span with n_a . v_c = ct[a]; nc = 0 leaves the slot unconstrained.
-void set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3* cn,
-                            const double* ct, int nc);
+/// normals cn (those nearly parallel to or facing one taken before left out) and the
+/// constrained velocity component in their span with n_a . v_c = ct[a]; nc = 0 leaves the
+/// slot unconstrained. Returns the normals used (bit a: cn[a]); the caller's hits of the
+/// others are not contacts.
+unsigned set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3* cn,
+                                const double* ct, int nc);
 /// Local particle k's contact constraint force (the constrained part of A v - b, over dt)
 /// split over its contact hits [w0, end): lambda = sum_a share_a n_a, into share[h - w0].
 /// Returns how many shares pull (are negative).

@@ -230,6 +230,7 @@ class WallBuilder {
     // Contact normals and target normal velocities of this particle (up to 3).
     Vec3 cn[3];
     double ct[3];
+    WallHit* ch[3];
     int nc = 0;
     // The colliders to look at (the statics in the mask, every moving one), in index order.
     for (; todo != 0; todo &= todo - 1) {
@@ -285,6 +286,7 @@ class WallBuilder {
         cn[nc] = normal;
         ct[nc] = vw.dot(normal) + std::max(approach, std::min(vn_rel, 0.0));
         w.contact_target = ct[nc];
+        ch[nc] = &w;
         ++nc;
         w.contact = true;
       }
@@ -297,7 +299,7 @@ class WallBuilder {
       walls_.c[slot] = Eigen::Matrix3d::Zero();
     }
     if (!awake) return;
-    if (nc > 0) add_contact_constraint(k, cn, ct, nc);
+    if (nc > 0) add_contact_constraint(k, cn, ct, ch, nc);
   }
 
   // The solid fills the lattice sites a particle is missing near it: their density, its
@@ -342,11 +344,15 @@ class WallBuilder {
     }
   }
 
-  void add_contact_constraint(std::size_t k, const Vec3* cn, const double* ct, int nc) {
+  // The hits whose normals the constraint leaves out are not contacts.
+  void add_contact_constraint(std::size_t k, const Vec3* cn, const double* ct, WallHit** ch,
+                              int nc) {
     const std::size_t slot = contacts_.particles++;
     contacts_.slot[k] = static_cast<std::int32_t>(slot);
     contacts_.particle[slot] = static_cast<std::int32_t>(k);
-    set_contact_constraint(contacts_, slot, cn, ct, nc);
+    const unsigned used = set_contact_constraint(contacts_, slot, cn, ct, nc);
+    for (int a = 0; a < nc; ++a)
+      if (!(used & (1u << a))) ch[a]->contact = false;
   }
 
   const NucleusModel& model_;

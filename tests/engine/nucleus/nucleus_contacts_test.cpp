@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/nucleus/nucleus.hpp"
+#include "engine/nucleus/nucleus_stages.hpp"
 #include "verification/box_block_scene.hpp"
 
 namespace acdr {
@@ -61,6 +62,36 @@ TEST(NucleusContacts, ATurningCupFeelsNoStepToStepAlternation) {
               std::sqrt(force2 / 199.0), 100.0 * ratio);
   EXPECT_GT(force2, 199.0 * 1e-4);  // the cup is in the material (RMS above 10 mN)
   EXPECT_LT(ratio, 0.02);
+}
+
+// A particle between two walls that face each other (the cup closing on the bone) is held by
+// the first wall only: both targets cannot hold, and solved together they asked for a large
+// velocity along the gap (a 6-7 N force alternating on the cup in module 02). A wall at a
+// right angle to the first is a corner, and both hold.
+TEST(NucleusContacts, FacingWallsHoldAParticleByTheFirstOnly) {
+  StepContacts contacts;
+  contacts.count.resize(1);
+  contacts.e.resize(1);
+  contacts.v.resize(1);
+  const Vec3 floor(0.0, 0.0, 1.0);
+  const Vec3 cup_above = Vec3(0.0, 0.3, -1.0).normalized();  // 107 degrees from the floor's
+  const Vec3 side(1.0, 0.0, 0.0);
+  {
+    const Vec3 n[2] = {floor, cup_above};
+    const double t[2] = {0.0, 0.01};
+    EXPECT_EQ(nucleus::set_contact_constraint(contacts, 0, n, t, 2), 1u);
+    EXPECT_EQ(contacts.count[0], 1);
+    EXPECT_NEAR(contacts.v[0].z(), 0.0, 1e-15);
+    EXPECT_LT(contacts.v[0].norm(), 1e-12);
+  }
+  {
+    const Vec3 n[3] = {floor, side, cup_above};
+    const double t[3] = {0.0, -0.002, 0.01};
+    EXPECT_EQ(nucleus::set_contact_constraint(contacts, 0, n, t, 3), 3u);
+    EXPECT_EQ(contacts.count[0], 2);
+    EXPECT_NEAR(contacts.v[0].dot(floor), 0.0, 1e-15);
+    EXPECT_NEAR(contacts.v[0].dot(side), -0.002, 1e-15);
+  }
 }
 
 }  // namespace
