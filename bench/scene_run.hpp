@@ -42,11 +42,10 @@ struct RunWindow {
   double lead_s = 0.0;
   /// Forces are averaged over consecutive windows of this length (s), so runs at different
   /// steps are compared at the same instants and over the same spans. 12 ms holds an even
-  /// number of steps for dt = 0.25, 0.5, 1, 2 and 3 ms: the nucleus's force on the instrument
-  /// alternates from step to step by up to half its mean (a chatter at half the step rate,
-  /// seen at every step from 0.5 to 3 ms on module 02; the instrument's mass and drag pass a
-  /// small part of it on to the coupling force), and a window of an odd number of steps (10 ms
-  /// at 2 ms) keeps a remnant of it that reads as error.
+  /// number of steps for dt = 0.25, 0.5, 1, 2 and 3 ms, and for the particles' steps of
+  /// multi-rate runs at 2 and 3 ms: a force that alternates from step to step (as the
+  /// nucleus's did until its contacts only pushed, by up to half its mean) cancels in such a
+  /// window, where one of an odd number of steps (10 ms at 2 ms) keeps a remnant of it.
   double sample_s = 0.012;
   /// Steps run before the timing starts (warm-up; their forces still count).
   int warmup_steps = 0;

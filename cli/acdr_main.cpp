@@ -200,7 +200,7 @@ int main(int argc, char** argv) {
   auto* bench_cmd = app.add_subcommand(
       "bench", "Work-precision benchmark: run time against error, Bullet soft-body peer, "
                "scaling with particle count, skips");
-  bench_cmd->add_flag("--quick", bench.quick, "Small grid on a coarser lattice (< 2 minutes)");
+  bench_cmd->add_flag("--quick", bench.quick, "Small grid and the scenes' quick references (about 3 minutes on two cores)");
   bench_cmd->add_option("--csv", bench.csv, "Also write every figure as CSV");
   bench_cmd->add_flag("--json", bench.json, "Print the results as JSON");
   bench_cmd->add_option("--png", bench.png, "Work-precision plot (PNG; empty string: none)");

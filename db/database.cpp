@@ -5,9 +5,11 @@
 #include <sqlite3.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
+#include <thread>
 #include <utility>
 
 #include "db/schema.hpp"
@@ -87,7 +89,16 @@ DbResult<Database> Database::open(const std::string& path, const OpenOptions& op
   if (!options.read_only) {
     // WAL: readers never block the writer and the writer never blocks readers; a process
     // killed mid-transaction leaves an uncommitted WAL tail that SQLite discards on next open.
+    // Two programs opening a new record at once: the switch needs the file to itself, and
+    // SQLite answers busy at once, without its busy handler, when waiting could deadlock (this
+    // connection already reads the schema). Retried until the busy timeout.
     DbResult<std::string> mode = pragma_text(db, "PRAGMA journal_mode = WAL");
+    for (int waited_ms = 0; !mode && (mode.error().sqlite_code & 0xff) == SQLITE_BUSY &&
+                            waited_ms < options.busy_timeout_ms;
+         waited_ms += 10) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      mode = pragma_text(db, "PRAGMA journal_mode = WAL");
+    }
     if (!mode) return mode.error();
     if (mode.value() != "wal" && !(in_memory && mode.value() == "memory")) {
       return DbError{db.path() + ": cannot switch the record to WAL mode (journal_mode is '" +

@@ -51,7 +51,9 @@
 // bond again, at their current distance (nucleus_cohesion.cpp).
 //
 // Contact: particles keep a distance h/2 from every collider. Inside the solve this is a
-// velocity constraint along the surface normal; afterwards every particle path is swept in the
+// velocity constraint along the surface normal that only pushes: a contact whose force would
+// pull its particle toward the wall lets go and the velocities are solved again, up to three
+// solves a step (nucleus_contacts.cpp); afterwards every particle path is swept in the
 // collider's own frame from its start-of-step to its end-of-step pose, so a thin blade moving
 // a millimetre per step cannot jump over a particle (the exit side is the side it came from).
 #include "engine/nucleus/nucleus.hpp"
@@ -303,7 +305,7 @@ void Nucleus::step(double dt, std::span<const Collider> moving,
   nucleus::collider_frames(model_, work_.frames, moving);
   nucleus::setup_walls(model_, state_, work_, dt, moving);
   nucleus::assemble(model_, state_, work_, dt);
-  nucleus::solve_velocities(model_, state_, work_, report);
+  nucleus::solve_with_contacts(model_, state_, work_, dt, report);
   for (std::size_t k = 0; k < state_.active_count; ++k) {
     if (!nucleus::finite(state_.v[state_.active[k]])) {
       if (report.ok) report.stage = "solve";

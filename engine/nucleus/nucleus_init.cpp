@@ -340,7 +340,6 @@ void init_state(const NucleusModel& model, const NucleusParticleSetup& setup,
   state.wake_next.assign(n, 0);
   state.wake_list.assign(n, 0);
   state.wake_count = 0;
-  state.release.assign(n, 0);
   state.bond_alive.assign(model.bonds.size(), 1);
   state.broken_bonds = 0;
   // The re-formed bonds' pool: room for every particle to hold its full share.

@@ -61,42 +61,6 @@ void end_of_step_pressures(const NucleusModel& model, NucleusState& state,
   }
 }
 
-// Local particle k's contact constraint force (the constrained part of A v - b, divided by
-// dt; A v kept by the solve) split over its contact hits [w0, end): lambda = sum_a a_k n_k,
-// share[h - w0] = a_k. A wall that pulls (negative share) lets go next step.
-void contact_shares(NucleusState& state, const NucleusWorkspace& work, std::int32_t k,
-                    std::size_t w0, std::size_t end, double dt, double* share) {
-  const StepContacts& contacts = work.contacts;
-  const StepWalls& walls = work.walls;
-  const std::int32_t cs =
-      k < static_cast<std::int32_t>(work.step.awake_end) ? contacts.slot[k] : -1;
-  if (cs < 0) return;
-  Vec3 lambda = (contacts.av[cs] - work.sys.rhs[k]) / dt;
-  Vec3 constrained = Vec3::Zero();
-  for (int a = 0; a < contacts.count[cs]; ++a)
-    constrained += contacts.e[cs][a] * contacts.e[cs][a].dot(lambda);
-  lambda = constrained;
-  int idx[3];
-  int nc = 0;
-  for (std::size_t h = w0; h < end && nc < 3; ++h)
-    if (walls.hits[h].contact) idx[nc++] = static_cast<int>(h - w0);
-  if (nc == 1) {
-    share[idx[0]] = lambda.dot(walls.hits[w0 + idx[0]].normal);
-  } else if (nc > 1) {
-    Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
-    Vec3 rhs = Vec3::Zero();
-    for (int a = 0; a < nc; ++a) {
-      rhs[a] = walls.hits[w0 + idx[a]].normal.dot(lambda);
-      for (int b = 0; b < nc; ++b)
-        G(a, b) = walls.hits[w0 + idx[a]].normal.dot(walls.hits[w0 + idx[b]].normal);
-    }
-    const Vec3 sol = G.ldlt().solve(rhs);
-    for (int a = 0; a < nc; ++a) share[idx[a]] = std::isfinite(sol[a]) ? sol[a] : 0.0;
-  }
-  for (int a = 0; a < nc; ++a)
-    if (share[idx[a]] < 0.0) state.release[work.step.global[k]] = 1;
-}
-
 }  // namespace
 
 void reactions_and_pressure(const NucleusModel& model, NucleusState& state,
@@ -113,7 +77,7 @@ void reactions_and_pressure(const NucleusModel& model, NucleusState& state,
     std::size_t end = w0;
     while (end < walls.hit_count && walls.hits[end].particle == k) ++end;
     double share[kMaxWallHitsPerParticle] = {0, 0, 0, 0};
-    contact_shares(state, work, k, w0, end, dt, share);
+    contact_shares(work, k, w0, end, dt, share);
     for (std::size_t h = w0; h < end; ++h) {
       const WallHit& w = walls.hits[h];
       if (w.collider < 0) {

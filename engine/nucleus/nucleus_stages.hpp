@@ -63,6 +63,15 @@ void apply_operator(const NucleusWorkspace& work, ApplyScratch& scratch, const V
 /// The PCG solve (nucleus_pcg.cpp): the awake particles' velocities into state.v.
 void solve_velocities(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
                       NumericalReport& report);
+/// Contacts (nucleus_contacts.cpp): the contacts whose force would pull their particle
+/// toward the wall let go (their constraints are rebuilt from the pushing ones); returns how
+/// many. Called after a solve.
+int release_pulling_contacts(NucleusWorkspace& work, double dt);
+/// The solve with contacts that only push: solve_velocities, then, while contacts let go
+/// (release_pulling_contacts), solve again from those velocities, three solves at most; the
+/// report's iterations are the sum.
+void solve_with_contacts(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
+                         double dt, NumericalReport& report);
 /// Reactions and pressure (nucleus_reactions.cpp): what the particles do to the moving
 /// bodies, and the particle pressures.
 void reactions_and_pressure(const NucleusModel& model, NucleusState& state,
@@ -80,6 +89,21 @@ void break_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspac
 /// rested relative to their neighbours long enough bond at their current distance.
 void reform_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
                   double dt);
+
+// ---- Contact constraints (nucleus_contacts.cpp) ----
+
+/// Contact slot `slot`: orthonormal constrained directions (Gram-Schmidt) of the contact
+/// normals cn (those nearly parallel to or facing one taken before left out) and the
+/// constrained velocity component in their span with n_a . v_c = ct[a]; nc = 0 leaves the
+/// slot unconstrained. Returns the normals used (bit a: cn[a]); the caller's hits of the
+/// others are not contacts.
+unsigned set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3* cn,
+                                const double* ct, int nc);
+/// Local particle k's contact constraint force (the constrained part of A v - b, over dt)
+/// split over its contact hits [w0, end): lambda = sum_a share_a n_a, into share[h - w0].
+/// Returns how many shares pull (are negative).
+int contact_shares(const NucleusWorkspace& work, std::int32_t k, std::size_t w0,
+                   std::size_t end, double dt, double* share);
 
 // ---- Re-formed bonds (nucleus_cohesion.cpp) ----
 

@@ -59,7 +59,6 @@ struct NucleusState {
   std::vector<std::uint8_t> wake_next;  // N, 1 = wakes next step (also listed in wake_list)
   std::vector<std::int32_t> wake_list;  // N: [0, wake_count) particles with wake_next set
   std::size_t wake_count = 0;
-  std::vector<std::uint8_t> release;   // N, 1: a contact pulled last step; skip it once
 
   // ---- Bonds ----
   std::vector<std::uint8_t> bond_alive;  // B, 1 while intact

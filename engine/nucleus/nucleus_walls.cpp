@@ -17,6 +17,13 @@ namespace {
 // of h) to where the mask was found.
 constexpr double kStaticMaskMargin = 0.25;
 
+// A particle this close (in units of h) beyond the contact distance is held at it even while
+// receding by a hair: the contact lets go in the same step if holding it would pull
+// (release_pulling_contacts). Left out, a particle resting on a moving wall alternated between
+// held and free from step to step (rounding and the wall's motion tip its normal velocity
+// either way), and with it the force on the wall.
+constexpr double kContactHold = 0.01;
+
 // Wall sums of collider `kc`'s lattice sites around a particle at x (local: x in the
 // collider's frame), d from its surface: each site within R counts with its occupancy (see
 // setup_walls). The sites are placed in the collider's frame with the offsets rotated once per
@@ -127,6 +134,7 @@ class WallBuilder {
         moving_(moving), dt_(dt),
         // A lattice site within R of the particle can be inside the solid only if d < R + h/2.
         wall_range_(model.radius + 0.5 * model.h),
+        contact_hold_(model.contact + kContactHold * model.h),
         n_static_(model.statics.size()),
         n_coll_(n_static_ + moving.size()) {
     // Bounding boxes and speed bounds of the colliders.
@@ -222,6 +230,7 @@ class WallBuilder {
     // Contact normals and target normal velocities of this particle (up to 3).
     Vec3 cn[3];
     double ct[3];
+    WallHit* ch[3];
     int nc = 0;
     // The colliders to look at (the statics in the mask, every moving one), in index order.
     for (; todo != 0; todo &= todo - 1) {
@@ -265,16 +274,19 @@ class WallBuilder {
       w.distance = d;
       add_wall_sums(w, k, i, c, kc, xi, d, unrotated);
       grad_sum += w.grad;
-      // Contact constraint: approaching or resting particles within reach. The normal velocity
-      // is set to what brings the particle exactly to the contact distance, or to its current
-      // normal velocity if that is slower (no pull toward the wall). Penetrating particles are
-      // stopped in the normal direction and pushed out by position after the solve.
+      // Contact constraint: approaching particles within reach and those at the contact
+      // distance. The normal velocity is set to what brings the particle exactly to the contact
+      // distance, or to its current normal velocity if that is slower (no pull toward the
+      // wall); a contact that would still pull lets go after the solve and the step solves
+      // again (release_pulling_contacts). Penetrating particles are stopped in the normal
+      // direction and pushed out by position after the solve.
       w.contact = false;
-      if (awake && d < reach && vn_rel <= 1e-12 &&
-          (d < model_.contact || !state_.release[i]) && nc < 3) {
+      if (awake && d < reach && (vn_rel <= 1e-12 || d <= contact_hold_) && nc < 3) {
         const double approach = d > model_.contact ? -(d - model_.contact) / dt_ : 0.0;
         cn[nc] = normal;
         ct[nc] = vw.dot(normal) + std::max(approach, std::min(vn_rel, 0.0));
+        w.contact_target = ct[nc];
+        ch[nc] = &w;
         ++nc;
         w.contact = true;
       }
@@ -287,8 +299,7 @@ class WallBuilder {
       walls_.c[slot] = Eigen::Matrix3d::Zero();
     }
     if (!awake) return;
-    state_.release[i] = 0;
-    if (nc > 0) add_contact_constraint(k, cn, ct, nc);
+    if (nc > 0) add_contact_constraint(k, cn, ct, ch, nc);
   }
 
   // The solid fills the lattice sites a particle is missing near it: their density, its
@@ -333,44 +344,15 @@ class WallBuilder {
     }
   }
 
-  // Orthonormal constrained directions (Gram-Schmidt) of the contact normals cn and the
-  // constrained velocity component v_c in their span with n_k . v_c = t_k (targets ct).
-  void add_contact_constraint(std::size_t k, const Vec3* cn, const double* ct, int nc) {
-    Vec3 e[3];
-    Vec3 used_n[3];
-    double used_t[3];
-    int ne = 0;
-    for (int a = 0; a < nc; ++a) {
-      Vec3 u = cn[a];
-      for (int b = 0; b < ne; ++b) u -= e[b] * e[b].dot(u);
-      const double len = u.norm();
-      if (len < 0.2) continue;  // nearly parallel to one already taken
-      e[ne] = u / len;
-      used_n[ne] = cn[a];
-      used_t[ne] = ct[a];
-      ++ne;
-    }
-    Vec3 vc = Vec3::Zero();
-    if (ne == 1) {
-      vc = used_t[0] * used_n[0];
-    } else if (ne == 2) {
-      Eigen::Matrix2d G2;
-      G2 << 1.0, used_n[0].dot(used_n[1]), used_n[0].dot(used_n[1]), 1.0;
-      const Eigen::Vector2d a2 = G2.inverse() * Eigen::Vector2d(used_t[0], used_t[1]);
-      vc = a2[0] * used_n[0] + a2[1] * used_n[1];
-    } else {
-      Eigen::Matrix3d G3;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) G3(a, b) = used_n[a].dot(used_n[b]);
-      const Vec3 a3 = G3.inverse() * Vec3(used_t[0], used_t[1], used_t[2]);
-      vc = a3[0] * used_n[0] + a3[1] * used_n[1] + a3[2] * used_n[2];
-    }
+  // The hits whose normals the constraint leaves out are not contacts.
+  void add_contact_constraint(std::size_t k, const Vec3* cn, const double* ct, WallHit** ch,
+                              int nc) {
     const std::size_t slot = contacts_.particles++;
     contacts_.slot[k] = static_cast<std::int32_t>(slot);
     contacts_.particle[slot] = static_cast<std::int32_t>(k);
-    contacts_.count[slot] = static_cast<std::uint8_t>(ne);
-    for (int a = 0; a < ne; ++a) contacts_.e[slot][a] = e[a];
-    contacts_.v[slot] = vc;
+    const unsigned used = set_contact_constraint(contacts_, slot, cn, ct, nc);
+    for (int a = 0; a < nc; ++a)
+      if (!(used & (1u << a))) ch[a]->contact = false;
   }
 
   const NucleusModel& model_;
@@ -385,6 +367,7 @@ class WallBuilder {
   std::span<const Collider> moving_;
   const double dt_;
   const double wall_range_;
+  const double contact_hold_;
   const std::size_t n_static_, n_coll_;
   std::array<Vec3, kMaxStepColliders> lo_, hi_;
   std::array<bool, kMaxStepColliders> bounded_;

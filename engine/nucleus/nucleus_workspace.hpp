@@ -156,6 +156,7 @@ struct WallHit {
   Vec3 v_wall;            // surface velocity, m/s
   Vec3 point;             // surface point, m
   double distance;        // signed distance at the start of the step, m
+  double contact_target;  // the constrained normal velocity, m/s (when contact)
   bool contact;           // a velocity constraint in the solve
 };
 
