@@ -19,7 +19,8 @@ the danger zones and the annulus allow (`Placement`):
   from there (`EASE_S` times the pace);
 - plunge: through the anterior annulotomy window, the cup 0.1 mm inside its edges;
 - height: as written, within the endplates' 0.3 mm warning bands for the 1.9 mm outer radius of
-  the modules' cup (|y| <= 0.75 mm on a 5.9 mm disc);
+  the modules' cup, with a margin of 0.35 mm above and 0.6 mm below (C5's endplate rises
+  toward the uncinate processes): -0.15 <= y <= 0.4 mm on a 5.9 mm disc;
 - the specimen tray: the wipe on the module's tray (world.box) with the curette's own pitch
   (80 deg for the angled 135-degree cup, 65 deg for a straight cup), the lip pressed about
   0.35 mm deeper into the floor than the earlier wipe and dragged 10 mm instead of 3, so what sticks to the cup is left on the tray (a 3 mm drag
@@ -55,6 +56,14 @@ CORD_WARNING_MM = 1.5       # engine/anatomy/danger_zone.hpp: cord_warning_m
 CORD_MARGIN_MM = 0.6        # kept between the cup and the cord zone's warning band
 LATERAL_REACH_MM = 0.15     # how far the cup centre may pass the nucleus's edge
 POSTERIOR_CLEARANCE_MM = 0.8  # kept between the cup and the posterior annulus
+# Kept between the cup and the endplates' warning bands: the cup rides up to ~0.3 mm off its
+# planned height when it squeezes gel against an endplate (0.11 mm from C5's band in module
+# 02's expert_4 with a 0.15 mm margin).
+ENDPLATE_MARGIN_MM = 0.35
+# And below the middle height, as much again: C5's superior endplate rises laterally into the
+# uncinate processes and toward its front rim, where a side scoop at -0.4 mm came 0.14 mm from
+# C5's band on its way out (module 02, expert_5).
+C5_RISE_MARGIN_MM = 0.25
 SCOOP_S = (1.0, 1.2, 1.5, 1.2, 0.6)
 WIPE_S = (1.2, 0.8, 0.8, 1.6, 0.6, 0.8)
 EASE_S = 1.2                # the last of a deep plunge, eased
@@ -125,7 +134,7 @@ class Placement:
     def __init__(self, g):
         self.g = g
         self.z_min = g["body_back_z"] + CORD_WARNING_MM + g["cup_r"] + CORD_MARGIN_MM
-        self.y_max = 0.5 * g["disc_height"] - ENDPLATE_WARNING_MM - g["cup_r"] - 0.15
+        self.y_max = 0.5 * g["disc_height"] - ENDPLATE_WARNING_MM - g["cup_r"] - ENDPLATE_MARGIN_MM
         self.window = g["window_half"] - g["cup_r"] - 0.1
         self.ease_from = g["nucleus_cz"]
 
@@ -154,7 +163,10 @@ class Placement:
         return g["nucleus_cx"] + max(-r, min(r, u * g["nucleus_a"]))
 
     def height(self, y):
-        return max(-self.y_max, min(self.y_max, y))
+        # The straight cup opens sideways and its rim hangs lower: in 03's stiff gel it came
+        # within 0.14-0.29 mm of C5's band from -0.15 mm, so it stays at or above the middle.
+        low = self.y_max - C5_RISE_MARGIN_MM if self.g["angled"] else 0.0
+        return max(-low, min(self.y_max, y))
 
     def above(self, h):  # h mm above the front of the bodies
         return self.g["body_front_z"] + h
@@ -362,10 +374,10 @@ EXPERTS_VISCOUS = {
 VISCOUS_PA_S = 1000.0  # a target gel above this gets EXPERTS_VISCOUS
 
 
-def novices(reference, time_limit_s, slow_pace=1.6):
+def novices(reference, time_limit_s, slow_pace=2.0):
     """The same five kinds of error for every anatomical module (the hesitant one at slow_pace,
     slower than the module's experts)."""
-    # Too slow: the reference plan at the pace 1.6 with a pause before each scoop; the time limit
+    # Too slow: the reference plan at the pace 2.0 with a pause before each scoop; the time limit
     # runs out after a few scoops.
     slow = []
     for s in reference:
@@ -393,7 +405,9 @@ def novices(reference, time_limit_s, slow_pace=1.6):
 
 def plans_for(module_path, g):
     experts = EXPERTS_90 if g["time_limit_s"] and g["time_limit_s"] < 100 else EXPERTS_120
-    slow_pace = 1.6
+    # 1.6 removed 25 % of 02's nucleus by the time limit once the nucleus's contacts only
+    # pushed, at or above three quarters of the experts' mean: the hesitant novice passed.
+    slow_pace = 2.0
     if g["nucleus_viscosity_Pa_s"] > VISCOUS_PA_S:
         experts = EXPERTS_VISCOUS
         slow_pace = 2.4  # the experts there work at 1.45-1.55
