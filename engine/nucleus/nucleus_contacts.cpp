@@ -64,6 +64,24 @@ unsigned set_contact_constraint(StepContacts& contacts, std::size_t slot, const 
   return used;
 }
 
+void constrain_contact_hits(StepContacts& contacts, std::size_t slot, WallHit* hits,
+                            std::size_t w0, std::size_t end) {
+  Vec3 cn[3];
+  double ct[3];
+  WallHit* ch[3];
+  int nc = 0;
+  for (std::size_t h = w0; h < end && nc < 3; ++h) {
+    if (!hits[h].contact) continue;
+    cn[nc] = hits[h].normal;
+    ct[nc] = hits[h].contact_target;
+    ch[nc] = &hits[h];
+    ++nc;
+  }
+  const unsigned used = set_contact_constraint(contacts, slot, cn, ct, nc);
+  for (int a = 0; a < nc; ++a)
+    if (!(used & (1u << a))) ch[a]->contact = false;
+}
+
 int contact_shares(const NucleusWorkspace& work, std::int32_t k, std::size_t w0,
                    std::size_t end, double dt, double* share) {
   const StepContacts& contacts = work.contacts;
@@ -109,27 +127,15 @@ int release_pulling_contacts(NucleusWorkspace& work, double dt) {
     while (end < walls.hit_count && walls.hits[end].particle == k) ++end;
     double share[kMaxWallHitsPerParticle] = {0, 0, 0, 0};
     if (contact_shares(work, k, w0, end, dt, share) > 0) {
-      Vec3 cn[3];
-      double ct[3];
-      WallHit* ch[3];
-      int nc = 0;
       for (std::size_t h = w0; h < end; ++h) {
         WallHit& w = walls.hits[h];
-        if (!w.contact) continue;
-        if (share[h - w0] < 0.0) {
+        if (w.contact && share[h - w0] < 0.0) {
           w.contact = false;
           ++released;
-        } else if (nc < 3) {
-          cn[nc] = w.normal;
-          ct[nc] = w.contact_target;
-          ch[nc] = &w;
-          ++nc;
         }
       }
-      const unsigned used = set_contact_constraint(
-          work.contacts, static_cast<std::size_t>(work.contacts.slot[k]), cn, ct, nc);
-      for (int a = 0; a < nc; ++a)
-        if (!(used & (1u << a))) ch[a]->contact = false;
+      constrain_contact_hits(work.contacts, static_cast<std::size_t>(work.contacts.slot[k]),
+                             walls.hits.data(), w0, end);
     }
     w0 = end;
   }

@@ -99,6 +99,10 @@ void reform_bonds(const NucleusModel& model, NucleusState& state, NucleusWorkspa
 /// others are not contacts.
 unsigned set_contact_constraint(StepContacts& contacts, std::size_t slot, const Vec3* cn,
                                 const double* ct, int nc);
+/// Contact slot `slot` from the hits [w0, end) marked contact (the first three, their normals
+/// and contact_target): set_contact_constraint, and the hits it leaves out are not contacts.
+void constrain_contact_hits(StepContacts& contacts, std::size_t slot, WallHit* hits,
+                            std::size_t w0, std::size_t end);
 /// Local particle k's contact constraint force (the constrained part of A v - b, over dt)
 /// split over its contact hits [w0, end): lambda = sum_a share_a n_a, into share[h - w0].
 /// Returns how many shares pull (are negative).

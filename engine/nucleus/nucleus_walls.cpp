@@ -227,10 +227,8 @@ class WallBuilder {
     const double vi_norm = vi.norm();
     int hits = 0;
     Vec3 grad_sum = Vec3::Zero();
-    // Contact normals and target normal velocities of this particle (up to 3).
-    Vec3 cn[3];
-    double ct[3];
-    WallHit* ch[3];
+    // This particle's hits start here; up to 3 of them are contacts.
+    const std::size_t first_hit = walls_.hit_count;
     int nc = 0;
     // The colliders to look at (the statics in the mask, every moving one), in index order.
     for (; todo != 0; todo &= todo - 1) {
@@ -283,10 +281,7 @@ class WallBuilder {
       w.contact = false;
       if (awake && d < reach && (vn_rel <= 1e-12 || d <= contact_hold_) && nc < 3) {
         const double approach = d > model_.contact ? -(d - model_.contact) / dt_ : 0.0;
-        cn[nc] = normal;
-        ct[nc] = vw.dot(normal) + std::max(approach, std::min(vn_rel, 0.0));
-        w.contact_target = ct[nc];
-        ch[nc] = &w;
+        w.contact_target = vw.dot(normal) + std::max(approach, std::min(vn_rel, 0.0));
         ++nc;
         w.contact = true;
       }
@@ -299,7 +294,7 @@ class WallBuilder {
       walls_.c[slot] = Eigen::Matrix3d::Zero();
     }
     if (!awake) return;
-    if (nc > 0) add_contact_constraint(k, cn, ct, ch, nc);
+    if (nc > 0) add_contact_constraint(k, first_hit);
   }
 
   // The solid fills the lattice sites a particle is missing near it: their density, its
@@ -344,15 +339,12 @@ class WallBuilder {
     }
   }
 
-  // The hits whose normals the constraint leaves out are not contacts.
-  void add_contact_constraint(std::size_t k, const Vec3* cn, const double* ct, WallHit** ch,
-                              int nc) {
+  // Local particle k's contact slot, from its contact hits (from first_hit on).
+  void add_contact_constraint(std::size_t k, std::size_t first_hit) {
     const std::size_t slot = contacts_.particles++;
     contacts_.slot[k] = static_cast<std::int32_t>(slot);
     contacts_.particle[slot] = static_cast<std::int32_t>(k);
-    const unsigned used = set_contact_constraint(contacts_, slot, cn, ct, nc);
-    for (int a = 0; a < nc; ++a)
-      if (!(used & (1u << a))) ch[a]->contact = false;
+    constrain_contact_hits(contacts_, slot, walls_.hits.data(), first_hit, walls_.hit_count);
   }
 
   const NucleusModel& model_;

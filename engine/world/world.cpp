@@ -282,8 +282,8 @@ void World::step_nucleus() {
       carry_held(grip, v_grip, omega);
     }
     instrument_->world_colliders(grip, v_grip, omega, moving_, jaw_closure_, jaw_rate_);
-    held_point_velocity_ = v_com;  // the reference point is the centre of mass here
-    held_angular_velocity_ = omega;
+    stepped_point_velocity_ = v_com;  // the reference point is the centre of mass here
+    stepped_angular_velocity_ = omega;
     moving = moving_;
     reactions = reactions_;
   }
@@ -318,9 +318,9 @@ void World::step_instrument(StepData& s) {
     // step (the implicit update then takes it on to the new velocity).
     const Vec3 v_point = body.com_velocity_m_s +
                          body.angular_velocity_rad_s.cross(reaction.reference_point - body.com_m);
-    reaction.force_N -= reaction.drag_Ns_m * (v_point - held_point_velocity_);
+    reaction.force_N -= reaction.drag_Ns_m * (v_point - stepped_point_velocity_);
     reaction.torque_Nm -=
-        reaction.rot_drag_Nms * (body.angular_velocity_rad_s - held_angular_velocity_);
+        reaction.rot_drag_Nms * (body.angular_velocity_rad_s - stepped_angular_velocity_);
   }
   const InstrumentUpdate update =
       implicit_instrument_update(body, coupling_, s.target, reaction, config_.gravity_m_s2, dt);

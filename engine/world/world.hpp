@@ -148,8 +148,8 @@ class World {
   std::int64_t nucleus_every_ = 1;  // SolverConfig::nucleus_every, at least 1
   // The instrument's velocities when the particles last stepped (their reaction's drag is
   // about them): of the reaction's reference point, and angular.
-  Vec3 held_point_velocity_ = Vec3::Zero();
-  Vec3 held_angular_velocity_ = Vec3::Zero();
+  Vec3 stepped_point_velocity_ = Vec3::Zero();
+  Vec3 stepped_angular_velocity_ = Vec3::Zero();
   // Rongeur jaws: the closure (0 open .. 1 closed), its rate this step (1/s), and what they
   // hold: particle indices and their places in the body frame (capacity N, fixed at build).
   double jaw_closure_ = 0.0;
