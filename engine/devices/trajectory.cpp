@@ -167,15 +167,21 @@ bool Trajectory::save_csv(const std::string& path, std::string* error) const {
   return ok;
 }
 
-Pose Trajectory::at(double t_s) const {
-  if (samples_.empty()) return Pose{};
-  if (t_s <= samples_.front().t_s) return samples_.front().pose;
-  if (t_s >= samples_.back().t_s) return samples_.back().pose;
+std::pair<std::size_t, double> Trajectory::segment(double t_s) const {
   const auto it = std::upper_bound(samples_.begin(), samples_.end(), t_s,
                                    [](double t, const TrajectorySample& s) { return t < s.t_s; });
   const auto& b = *it;
   const auto& a = *(it - 1);
-  const double u = (t_s - a.t_s) / (b.t_s - a.t_s);
+  return {static_cast<std::size_t>(it - samples_.begin()), (t_s - a.t_s) / (b.t_s - a.t_s)};
+}
+
+Pose Trajectory::at(double t_s) const {
+  if (samples_.empty()) return Pose{};
+  if (t_s <= samples_.front().t_s) return samples_.front().pose;
+  if (t_s >= samples_.back().t_s) return samples_.back().pose;
+  const auto [ib, u] = segment(t_s);
+  const auto& a = samples_[ib - 1];
+  const auto& b = samples_[ib];
   Pose p;
   p.position = a.pose.position + u * (b.pose.position - a.pose.position);
   p.orientation = a.pose.orientation.slerp(u, b.pose.orientation);
@@ -186,12 +192,8 @@ double Trajectory::grip_at(double t_s) const {
   if (samples_.empty()) return 0.0;
   if (t_s <= samples_.front().t_s) return samples_.front().grip;
   if (t_s >= samples_.back().t_s) return samples_.back().grip;
-  const auto it = std::upper_bound(samples_.begin(), samples_.end(), t_s,
-                                   [](double t, const TrajectorySample& s) { return t < s.t_s; });
-  const auto& b = *it;
-  const auto& a = *(it - 1);
-  const double u = (t_s - a.t_s) / (b.t_s - a.t_s);
-  return a.grip + u * (b.grip - a.grip);
+  const auto [ib, u] = segment(t_s);
+  return samples_[ib - 1].grip + u * (samples_[ib].grip - samples_[ib - 1].grip);
 }
 
 bool TrajectoryReplay::sample(double t_s, DeviceSample& out) {

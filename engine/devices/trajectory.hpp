@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/devices/input_device.hpp"
@@ -47,6 +48,10 @@ class Trajectory {
   const std::vector<TrajectorySample>& samples() const { return samples_; }
 
  private:
+  /// For t strictly inside the samples' span: the index of the first sample later than t and
+  /// the fraction of the way to it from the one before.
+  std::pair<std::size_t, double> segment(double t_s) const;
+
   std::vector<TrajectorySample> samples_;
   bool has_grip_ = false;
 };
