@@ -286,10 +286,13 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
            rs.tolerance = grid.reference_tolerance;
            rs.max_iterations = grid.reference_max_iterations;
            rs.nucleus_every = 1;  // the particles at the reference's own step
-           // Sleep is a skip: a scene that lets particles sleep nearer the instrument than
-           // the engine's default is measured against a reference that does not.
+           // Sleep is a skip: a scene that lets particles sleep nearer the instrument, or
+           // moving faster, than the engine's defaults is measured against a reference that
+           // does not.
            rs.sleep_distance_m =
                std::max(base.solver.sleep_distance_m, SolverConfig{}.sleep_distance_m);
+           rs.sleep_speed_m_s =
+               std::min(base.solver.sleep_speed_m_s, SolverConfig{}.sleep_speed_m_s);
            sc.reference = run_scene(apply_settings(base, rs), sc.trajectory, sc.window, progress);
            WorkPoint p = make_point(sc.scene.name, sc.reference, sc.reference);
            p.solver = "acdr";

@@ -38,6 +38,7 @@ WorldConfig apply_settings(const WorldConfig& base, const RunSettings& s) {
   if (s.spacing_m > 0.0) c.nucleus.spacing_m = s.spacing_m;
   if (s.sleep >= 0) c.solver.sleep_enabled = s.sleep != 0;
   if (s.sleep_distance_m > 0.0) c.solver.sleep_distance_m = s.sleep_distance_m;
+  if (s.sleep_speed_m_s > 0.0) c.solver.sleep_speed_m_s = s.sleep_speed_m_s;
   if (s.nucleus_every > 0) c.solver.nucleus_every = s.nucleus_every;
   return c;
 }

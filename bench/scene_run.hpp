@@ -24,6 +24,7 @@ struct RunSettings {
   double spacing_m = 0.0;      ///< particle spacing h, m (the blocks are refilled at it)
   int sleep = -1;              ///< 1/0: sleeping far particles on/off; -1: the scene's setting
   double sleep_distance_m = 0.0;  ///< particles this near a moving collider stay awake, m
+  double sleep_speed_m_s = 0.0;   ///< particles slower than this may sleep, m/s (0: the scene's)
   int nucleus_every = 0;       ///< the particles step every this many steps; 0: the scene's
 };
 

@@ -40,5 +40,22 @@ TEST(SceneRun, MotionOnPathGivesTheVelocitiesThatReachTheNextPose) {
   EXPECT_NEAR(end.angular_velocity_rad_s.norm(), 0.0, 1e-12);
 }
 
+TEST(SceneRun, SettingsOverrideTheScenesSleepOnlyWhenGiven) {
+  WorldConfig scene;
+  scene.solver.sleep_distance_m = 1.5e-3;
+  scene.solver.sleep_speed_m_s = 3e-4;
+  RunSettings keep;
+  const WorldConfig kept = apply_settings(scene, keep);
+  EXPECT_EQ(kept.solver.sleep_distance_m, 1.5e-3);
+  EXPECT_EQ(kept.solver.sleep_speed_m_s, 3e-4);
+  // The bench's reference: no nearer wake and no faster sleep than the engine's defaults.
+  RunSettings reference;
+  reference.sleep_distance_m = 6e-3;
+  reference.sleep_speed_m_s = 1e-4;
+  const WorldConfig ref = apply_settings(scene, reference);
+  EXPECT_EQ(ref.solver.sleep_distance_m, 6e-3);
+  EXPECT_EQ(ref.solver.sleep_speed_m_s, 1e-4);
+}
+
 }  // namespace
 }  // namespace acdr
