@@ -152,8 +152,12 @@ AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice&
   return stepper.finish(wall);
 }
 
+int scene_instrument_count(const WorldConfig& world) {
+  return world.instruments.empty() ? 1 : static_cast<int>(world.instruments.size());
+}
+
 std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* error,
-                                        double udp_disconnect_timeout_s) {
+                                        double udp_disconnect_timeout_s, int scene_instruments) {
   const auto colon = spec.find(':');
   const std::string kind = spec.substr(0, colon);
   const std::string arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
@@ -164,6 +168,14 @@ std::unique_ptr<InputDevice> open_input(const std::string& spec, std::string* er
     }
     auto trajectory = Trajectory::load_csv(arg, error);
     if (!trajectory) return nullptr;
+    if (scene_instruments > 0 && trajectory->max_instrument() >= scene_instruments) {
+      *error = arg + ": the instrument column asks for instrument " +
+               std::to_string(trajectory->max_instrument()) + ", expected 0 to " +
+               std::to_string(scene_instruments - 1) + " (the scene has " +
+               std::to_string(scene_instruments) + " instrument" +
+               (scene_instruments == 1 ? "" : "s") + ", world.instruments)";
+      return nullptr;
+    }
     return std::make_unique<TrajectoryReplay>(std::move(*trajectory));
   }
   if (kind == "udp") {

@@ -106,9 +106,14 @@ AttemptRun run_attempt(const ScenarioModel& scenario, World& world, InputDevice&
 /// "udp:PORT" for a haptic bridge on loopback (engine/devices/udp_device.hpp), which ends the
 /// attempt as disconnected after `udp_disconnect_timeout_s` without a packet. ("mouse" needs a
 /// window and is opened by the view.) Returns null with `error` set when the spelling or the
-/// file is wrong or the port cannot be bound.
+/// file is wrong or the port cannot be bound, or when a replay's instrument column asks for an
+/// instrument beyond the scene's `scene_instruments` (when given, > 0).
 std::unique_ptr<InputDevice> open_input(
     const std::string& spec, std::string* error,
-    double udp_disconnect_timeout_s = UdpDeviceOptions{}.disconnect_timeout_s);
+    double udp_disconnect_timeout_s = UdpDeviceOptions{}.disconnect_timeout_s,
+    int scene_instruments = 0);
+
+/// The number of instruments a scene has on its tray (WorldConfig::instruments, else 1).
+int scene_instrument_count(const WorldConfig& world);
 
 }  // namespace acdr

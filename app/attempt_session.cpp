@@ -268,7 +268,8 @@ SessionResult run_attempt_session(const SessionOptions& options, AttemptView* vi
   std::string error;
   std::unique_ptr<InputDevice> device;
   if (!(mouse && view)) {
-    device = open_input(options.input, &error, options.device_timeout_s);
+    device = open_input(options.input, &error, options.device_timeout_s,
+                        scene_instrument_count(scenario.world));
     if (!device) {
       refuse(result, error);
       return result;

@@ -73,7 +73,8 @@ std::optional<std::vector<CohortAttempt>> cohort_from_trajectories(
   std::vector<CohortAttempt> out;
   for (const std::string& path : trajectories) {
     if (progress) progress(path);
-    auto device = open_input("replay:" + path, error);
+    auto device = open_input("replay:" + path, error, UdpDeviceOptions{}.disconnect_timeout_s,
+                             scene_instrument_count(scenario.world));
     if (!device) return std::nullopt;
     World world(scenario.world);
     AttemptRun run = run_attempt(scenario, world, *device);

@@ -168,6 +168,8 @@ Metrics compute_metrics(const AttemptRecording& record) {
       case EventKind::kZoneEntry:
       case EventKind::kNeverEvent:
       case EventKind::kZoneForce: break;
+      // Which instrument is in hand is part of the record, not a score.
+      case EventKind::kInstrumentExchange: break;
     }
   }
   m.set("overload_events", warnings);

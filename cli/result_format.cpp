@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/score_table.hpp"
@@ -21,6 +22,17 @@ struct ResultView {
   const AttemptRun& run;
   const World& world;
 };
+
+// The instruments in hand over the attempt, for a scene with a tray (world.instruments): the
+// first from the start, then each exchange from its time. Empty for a scene of one instrument.
+std::vector<std::pair<double, std::string>> instruments_in_hand(const ResultView& c) {
+  std::vector<std::pair<double, std::string>> out;
+  if (c.scenario.world.instruments.empty()) return out;
+  out.emplace_back(0.0, c.scenario.world.instruments.front().name);
+  for (const Event& e : c.run.record.events)
+    if (e.kind == EventKind::kInstrumentExchange) out.emplace_back(e.t_s, e.detail);
+  return out;
+}
 
 }  // namespace
 
@@ -134,6 +146,11 @@ nlohmann::json result_json(const SessionResult& result, const std::string& png_p
         {{"metric", g.metric}, {"value", g.value}, {"max", g.max}, {"passed", g.passed}});
   j["gates"] = gates;
   j["reasons"] = c.run.score.reasons;
+  if (const auto used = instruments_in_hand(c); !used.empty()) {
+    nlohmann::json in_hand = nlohmann::json::array();
+    for (const auto& [t, name] : used) in_hand.push_back({{"from_s", t}, {"name", name}});
+    j["instruments"] = in_hand;
+  }
   nlohmann::json events = nlohmann::json::array();
   for (const Event& e : c.run.record.events)
     events.push_back({{"t_s", e.t_s}, {"kind", event_kind_name(e.kind)}, {"value", e.value},
@@ -220,6 +237,14 @@ std::string result_summary(const SessionResult& result, const std::string& png_p
   std::snprintf(line, sizeof line, "  tip path               %8.1f mm\n",
                 metric("tip_path_length_mm"));
   s += line;
+  if (const auto used = instruments_in_hand(c); !used.empty()) {
+    s += "  instruments           ";
+    for (std::size_t k = 0; k < used.size(); ++k) {
+      std::snprintf(line, sizeof line, " %s from %.2f s", used[k].second.c_str(), used[k].first);
+      s += std::string(k > 0 ? "," : "") + line;
+    }
+    s += "\n";
+  }
   // Danger zones: totals, then each zone that was approached.
   const auto& zones = c.run.record.summary.zones;
   if (!zones.empty()) {

@@ -542,6 +542,7 @@ void read_rongeur_jaws(ObjectReader& r, InstrumentConfig& in) {
   if (auto v = r.number("jaw_close_time_s", Need::kOptional, Range::closed(0.01, 5.0), "s")) {
     in.jaw_close_time_s = *v;
   }
+  if (auto b = r.boolean("jaw_shake_off", Need::kOptional)) in.jaw_shake_off = *b;
   // The jaws' outer faces when closed stand depth + wall off the axis: the jaws must fit
   // through their own width in the window, and stay thinner than their length.
   if (in.has_jaws() && !(in.jaw_depth_m + in.jaw_wall_m < in.jaw_length_m)) {
@@ -599,6 +600,45 @@ void read_instrument(ObjectReader& r, InstrumentConfig& in) {
   }
   read_rongeur_jaws(r, in);
   r.finish();
+}
+
+// The instruments on the tray (world.instruments): each as world.instrument, with a name; the
+// first is in hand at the start. The record keeps one yield moment for the shaft, so they share
+// the shaft's diameter, yield stress and warning fraction.
+void read_instruments(ObjectReader& r, WorldConfig& w) {
+  std::vector<ObjectReader> items = r.objects("instruments", Need::kOptional, 2);
+  if (items.empty()) return;
+  if (r.has("instrument")) {
+    r.context().error(r.child("instruments"),
+                      "give either \"instrument\" (one) or \"instruments\" (the tray), not both");
+    return;
+  }
+  for (ObjectReader& o : items) {
+    InstrumentConfig in;
+    if (auto name = o.string("name", Need::kRequired)) in.name = *name;
+    read_instrument(o, in);
+    for (const InstrumentConfig& other : w.instruments) {
+      if (other.name == in.name) {
+        o.context().error(o.child("name"), "instrument name used twice (got \"" + in.name +
+                                               "\", expected a name of its own)");
+      }
+    }
+    const InstrumentConfig& first = w.instruments.empty() ? in : w.instruments.front();
+    if (in.shaft_diameter_m != first.shaft_diameter_m || in.yield_stress_Pa != first.yield_stress_Pa ||
+        in.warning_fraction != first.warning_fraction) {
+      o.context().error(o.pointer(), "instrument \"" + in.name +
+                                         "\" has another shaft than the first (got diameter " +
+                                         format_number(in.shaft_diameter_m / kMm) + " mm, yield " +
+                                         format_number(in.yield_stress_Pa / 1e6) + " MPa, warning " +
+                                         format_number(in.warning_fraction) + "; expected " +
+                                         format_number(first.shaft_diameter_m / kMm) + " mm, " +
+                                         format_number(first.yield_stress_Pa / 1e6) + " MPa, " +
+                                         format_number(first.warning_fraction) +
+                                         ": the record keeps one yield moment)");
+    }
+    w.instruments.push_back(in);
+  }
+  w.instrument = w.instruments.front();
 }
 
 void read_instrument_start(ObjectReader& r, Pose& pose) {
@@ -739,6 +779,7 @@ void read_world(ObjectReader& r, WorldConfig& w, BoneModelConfig& bone,
   if (auto o = r.object("box", Need::kOptional)) read_box(*o, w.box);
   if (auto o = r.object("nucleus", Need::kOptional)) read_nucleus(*o, w.nucleus);
   if (auto o = r.object("instrument", Need::kOptional)) read_instrument(*o, w.instrument);
+  read_instruments(r, w);
   if (auto o = r.object("instrument_start", Need::kOptional)) read_instrument_start(*o, w.instrument_start);
   if (auto o = r.object("coupling", Need::kOptional)) read_coupling(*o, w.coupling);
   if (auto o = r.object("device", Need::kOptional)) read_device(*o, w.device);

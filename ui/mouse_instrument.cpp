@@ -50,8 +50,14 @@ bool MouseInstrumentDevice::sample(double t_s, DeviceSample& out) {
   out.t_s = t_s;
   out.pose = pose_;
   out.grip = grip_;
+  out.instrument = instrument_presses_;
   out.end = end_;
   return true;
+}
+
+void MouseInstrumentDevice::next_instrument() {
+  std::lock_guard lock(mutex_);
+  ++instrument_presses_;
 }
 
 void MouseInstrumentDevice::set_grip(double grip) {

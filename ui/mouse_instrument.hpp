@@ -16,6 +16,7 @@
 //   Q / E, A / D       tilt, roll (as Ctrl + left-drag)
 //   Space              hold still (ignore the mouse while held)
 //   F                  close a rongeur's jaws while held (its grip; other instruments ignore it)
+//   T                  take the next instrument on the tray (with the one in hand out of the disc)
 // "Depth" is the world's vertical: every bundled module has the surgeon above the work,
 // looking down into it. The grip follows at most 20 mm/s and 2 rad/s (of simulated time when
 // the view gives it the attempt's clock; a drag cannot teleport the instrument, and the device
@@ -50,6 +51,9 @@ class MouseInstrumentDevice final : public InputDevice {
   Pose current() const;
   /// Window thread: how far the hand closes the instrument's jaws, 0 open .. 1 closed.
   void set_grip(double grip);
+  /// Window thread: ask for the next instrument on the tray (T; the simulation exchanges it
+  /// once the one in hand is out of the disc).
+  void next_instrument();
   /// Window thread: the trainee has finished (the attempt ends at the next step).
   void request_end();
   /// The clock the speeds are counted in (seconds): the simulation's, so that the grip moves
@@ -69,6 +73,7 @@ class MouseInstrumentDevice final : public InputDevice {
   std::function<double()> clock_;
   double last_t_s_ = -1.0;
   double grip_ = 0.0;
+  int instrument_presses_ = 0;
   bool end_ = false;
 };
 

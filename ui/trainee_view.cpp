@@ -103,7 +103,7 @@ struct TraineeView::Window {
   LiveView view;  ///< the newest live view (the last one once the attempt has ended)
   OrbitCamera orbit;
   bool camera_ready = false;
-  KeyEdge enter_key, keypad_enter_key, reset_key, stress_key, beads_key;
+  KeyEdge enter_key, keypad_enter_key, reset_key, stress_key, beads_key, exchange_key;
   bool stress_view = false;  ///< the bone stress view is on (key B or the Controls checkbox)
   bool stress_key_pressed = false;
   LiveBoneStress stress;
@@ -207,6 +207,7 @@ struct TraineeView::Window {
       in.fast = key_down(handle, GLFW_KEY_LEFT_SHIFT) || key_down(handle, GLFW_KEY_RIGHT_SHIFT);
       in.hold = key_down(handle, GLFW_KEY_SPACE);
       mouse->set_grip(key_down(handle, GLFW_KEY_F) ? 1.0 : 0.0);
+      if (exchange_key.pressed(handle, GLFW_KEY_T)) mouse->next_instrument();
     }
     mouse->set_pose(apply_mouse_input(mouse->pose(), in, orbit.camera()));
   }

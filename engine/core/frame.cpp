@@ -17,6 +17,7 @@ const char* event_kind_name(EventKind kind) {
     case EventKind::kZoneEntry: return "zone_entry";
     case EventKind::kNeverEvent: return "never_event";
     case EventKind::kZoneForce: return "zone_force";
+    case EventKind::kInstrumentExchange: return "instrument_exchange";
   }
   return "unknown";
 }

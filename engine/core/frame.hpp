@@ -56,10 +56,13 @@ enum class EventKind : std::uint8_t {
   kZoneEntry,          ///< instrument overlapped a zone (value: distance m, negative)
   kNeverEvent,         ///< entry into a never-event zone: the attempt fails (value: distance m)
   kZoneForce,          ///< force near a zone rose above its limit (value: force N)
+  /// The hand took another instrument from the tray (value: its index among
+  /// WorldConfig::instruments, `detail` its name).
+  kInstrumentExchange,
 };
 
 /// The highest EventKind value (readers of stored events reject larger ones).
-inline constexpr EventKind kLastEventKind = EventKind::kZoneForce;
+inline constexpr EventKind kLastEventKind = EventKind::kInstrumentExchange;
 
 const char* event_kind_name(EventKind kind);
 

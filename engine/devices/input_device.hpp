@@ -15,6 +15,11 @@ struct DeviceSample {
   /// How far the hand closes the instrument's jaws, 0 open .. 1 closed (a rongeur; other
   /// instruments ignore it): a trajectory's grip column, a bridge's first button.
   double grip = 0.0;
+  /// The instrument the hand asks for, an index into WorldConfig::instruments taken modulo
+  /// their number (a trajectory's instrument column; the count of presses of the bridge's
+  /// second button or of T in mouse mode); -1 keeps the one in hand. The World exchanges it
+  /// only once the one in hand is outside the disc.
+  int instrument = -1;
   bool end = false;          ///< the source has finished (end of trajectory, end-of-attempt)
   /// No fresh data for longer than the device's silence limit (e.g. UDP packets lost): the pose
   /// is held and the force goes to zero until data returns (DeviceGuard::accept_lost).

@@ -12,7 +12,9 @@ namespace acdr {
 namespace {
 
 constexpr const char* kHeader = "t_s,x_m,y_m,z_m,qw,qx,qy,qz";
-constexpr const char* kHeaderWithGrip = "t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip";
+constexpr const char* kGripColumn = ",grip";
+constexpr const char* kInstrumentColumn = ",instrument";
+constexpr int kMostInstruments = 255;  // an instrument index is at most this
 
 std::string format_time(double t) {
   char buf[40];
@@ -68,8 +70,8 @@ std::optional<Quat> unit_quaternion(double w, double x, double y, double z) {
   return q;
 }
 
-Trajectory::Trajectory(std::vector<TrajectorySample> samples, bool has_grip)
-    : samples_(std::move(samples)), has_grip_(has_grip) {}
+Trajectory::Trajectory(std::vector<TrajectorySample> samples, bool has_grip, bool has_instrument)
+    : samples_(std::move(samples)), has_grip_(has_grip), has_instrument_(has_instrument) {}
 
 std::optional<Trajectory> Trajectory::load_csv(const std::string& path, std::string* error) {
   std::string why;
@@ -93,6 +95,7 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
   int line_no = 0;
   bool header_seen = false;
   int fields_expected = 8;
+  bool has_grip = false, has_instrument = false;
   while (std::getline(lines, raw)) {
     ++line_no;
     const std::string line = trim(raw);
@@ -101,15 +104,25 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
       std::string compact;
       for (char ch : line)
         if (ch != ' ') compact += ch;
-      if (compact != kHeader && compact != kHeaderWithGrip)
-        return fail(line_no, "bad header (got '" + line + "', expected '" + kHeader + "' or '" +
-                                 kHeaderWithGrip + "')");
-      if (compact == kHeaderWithGrip) fields_expected = 9;
+      const std::string base = kHeader;
+      const std::string grip_col = kGripColumn, instrument_col = kInstrumentColumn;
+      if (compact == base) {
+      } else if (compact == base + grip_col) {
+        has_grip = true;
+      } else if (compact == base + instrument_col) {
+        has_instrument = true;
+      } else if (compact == base + grip_col + instrument_col) {
+        has_grip = has_instrument = true;
+      } else {
+        return fail(line_no, "bad header (got '" + line + "', expected '" + kHeader +
+                                 "' with optional columns ',grip' and ',instrument' in that order)");
+      }
+      fields_expected = 8 + (has_grip ? 1 : 0) + (has_instrument ? 1 : 0);
       header_seen = true;
       continue;
     }
-    // Eight comma-separated finite numbers, nine with the grip.
-    double v[9];
+    // Eight comma-separated finite numbers, and the grip and the instrument when present.
+    double v[10];
     std::istringstream fields(line);
     std::string field;
     int count = 0;
@@ -127,10 +140,15 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
     if (count != fields_expected)
       return fail(line_no, "expected " + std::to_string(fields_expected) + " fields, got " +
                                std::to_string(count));
-    const double grip = fields_expected == 9 ? v[8] : 0.0;
+    const double grip = has_grip ? v[8] : 0.0;
     if (!(grip >= 0.0 && grip <= 1.0))
       return fail(line_no, "grip out of range (got " + format_time(grip) +
                                ", expected 0 (open) to 1 (closed))");
+    const double tool = has_instrument ? v[has_grip ? 9 : 8] : -1.0;
+    if (has_instrument && !(tool >= 0.0 && tool <= kMostInstruments && tool == std::floor(tool)))
+      return fail(line_no, "instrument out of range (got " + format_time(tool) +
+                               ", expected a whole number 0 to 255: the place of the instrument "
+                               "in the scene's instruments, 0 the first)");
     if (samples.empty() && v[0] < 0.0)
       return fail(line_no, "negative time (got " + format_time(v[0]) +
                                ", expected the first sample at t_s >= 0)");
@@ -139,11 +157,11 @@ std::optional<Trajectory> Trajectory::parse_csv(const std::string& text, const s
                                format_time(samples.back().t_s) + ")");
     const std::optional<Quat> q = unit_quaternion(v[4], v[5], v[6], v[7]);
     if (!q) return fail(line_no, "zero quaternion (got [0, 0, 0, 0], expected a rotation)");
-    samples.push_back({v[0], Pose{Vec3(v[1], v[2], v[3]), *q}, grip});
+    samples.push_back({v[0], Pose{Vec3(v[1], v[2], v[3]), *q}, grip, static_cast<int>(tool)});
   }
   if (!header_seen) return fail(line_no, std::string("missing header (expected '") + kHeader + "')");
   if (samples.empty()) return fail(line_no, "no samples (expected at least one)");
-  return Trajectory(std::move(samples), fields_expected == 9);
+  return Trajectory(std::move(samples), has_grip, has_instrument);
 }
 
 bool Trajectory::save_csv(const std::string& path, std::string* error) const {
@@ -152,14 +170,15 @@ bool Trajectory::save_csv(const std::string& path, std::string* error) const {
     if (error) *error = path + ": cannot write trajectory file";
     return false;
   }
-  std::fprintf(f, "# ACDR Trainer device trajectory: grip pose over time, SI units\n%s\n",
-               has_grip_ ? kHeaderWithGrip : kHeader);
+  std::fprintf(f, "# ACDR Trainer device trajectory: grip pose over time, SI units\n%s%s%s\n",
+               kHeader, has_grip_ ? kGripColumn : "", has_instrument_ ? kInstrumentColumn : "");
   for (const auto& s : samples_) {
     const auto& p = s.pose.position;
     const auto& q = s.pose.orientation;
     std::fprintf(f, "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", s.t_s, p.x(), p.y(), p.z(), q.w(),
                  q.x(), q.y(), q.z());
     if (has_grip_) std::fprintf(f, ",%.6g", s.grip);
+    if (has_instrument_) std::fprintf(f, ",%d", s.instrument);
     std::fputc('\n', f);
   }
   const bool ok = std::fclose(f) == 0;
@@ -196,10 +215,25 @@ double Trajectory::grip_at(double t_s) const {
   return samples_[ib - 1].grip + u * (samples_[ib].grip - samples_[ib - 1].grip);
 }
 
+int Trajectory::instrument_at(double t_s) const {
+  if (samples_.empty() || !has_instrument_) return -1;
+  if (t_s <= samples_.front().t_s) return samples_.front().instrument;
+  if (t_s >= samples_.back().t_s) return samples_.back().instrument;
+  const auto [ib, u] = segment(t_s);
+  return samples_[ib - 1].instrument;
+}
+
+int Trajectory::max_instrument() const {
+  int most = -1;
+  for (const TrajectorySample& s : samples_) most = std::max(most, s.instrument);
+  return most;
+}
+
 bool TrajectoryReplay::sample(double t_s, DeviceSample& out) {
   out.t_s = t_s;
   out.pose = trajectory_.at(t_s);
   out.grip = trajectory_.grip_at(t_s);
+  out.instrument = trajectory_.instrument_at(t_s);
   out.buttons = 0;
   out.end = t_s >= trajectory_.duration_s();
   return true;

@@ -2,10 +2,11 @@
 // played back as an input device.
 //
 // CSV format (docs/trajectory-format.md): '#' comment lines, then a header line
-//   t_s,x_m,y_m,z_m,qw,qx,qy,qz[,grip]
+//   t_s,x_m,y_m,z_m,qw,qx,qy,qz[,grip][,instrument]
 // then one sample per line: decimal numbers only, the first time >= 0 and times strictly
 // increasing, quaternions of any finite non-zero scale normalised on load; the optional grip
-// (0 open .. 1 closed) closes an instrument's jaws.
+// (0 open .. 1 closed) closes an instrument's jaws; the optional instrument (an index into the
+// scene's instruments, held from its sample to the next) picks the instrument in hand.
 #pragma once
 
 #include <optional>
@@ -22,13 +23,16 @@ struct TrajectorySample {
   double t_s = 0.0;
   Pose pose;
   double grip = 0.0;  ///< jaw closure the hand asks for, 0 open .. 1 closed
+  int instrument = -1;  ///< the instrument the hand asks for (DeviceSample::instrument)
 };
 
 class Trajectory {
  public:
   Trajectory() = default;
   /// `has_grip`: the samples' grip values are meant (written as the grip column).
-  explicit Trajectory(std::vector<TrajectorySample> samples, bool has_grip = false);
+  /// `has_instrument`: so are their instrument values (the instrument column).
+  explicit Trajectory(std::vector<TrajectorySample> samples, bool has_grip = false,
+                      bool has_instrument = false);
 
   /// Loads a CSV trajectory. On failure returns nullopt and sets `error` to
   /// "file:line: what is wrong (got X, expected Y)".
@@ -44,6 +48,12 @@ class Trajectory {
   double grip_at(double t_s) const;
   /// Whether the trajectory carries a grip column.
   bool has_grip() const { return has_grip_; }
+  /// The instrument asked for at time t: that of the last sample at or before t (the first
+  /// sample's before it; -1 without an instrument column).
+  int instrument_at(double t_s) const;
+  /// Whether the trajectory carries an instrument column, and the largest index it asks for.
+  bool has_instrument() const { return has_instrument_; }
+  int max_instrument() const;
   double duration_s() const { return samples_.empty() ? 0.0 : samples_.back().t_s; }
   const std::vector<TrajectorySample>& samples() const { return samples_; }
 
@@ -54,6 +64,7 @@ class Trajectory {
 
   std::vector<TrajectorySample> samples_;
   bool has_grip_ = false;
+  bool has_instrument_ = false;
 };
 
 /// The rotation of [w, x, y, z] as a unit quaternion, for any finite, non-zero scale (a scaled

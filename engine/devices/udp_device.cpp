@@ -92,6 +92,8 @@ bool UdpDevice::drain(Clock::time_point now) {
       }
       last_sequence_ = m.sequence;
       pose_ = m.pose;
+      // Each press of the second button asks for the next instrument on the tray.
+      if ((m.buttons & 2u) != 0 && (buttons_ & 2u) == 0) ++instrument_presses_;
       buttons_ = m.buttons;
       have_pose_ = true;
       fresh = true;
@@ -171,6 +173,8 @@ bool UdpDevice::sample(double t_s, DeviceSample& out) {
   out.buttons = buttons_;
   // The first button closes the instrument's jaws (World rate-limits the closing).
   out.grip = (buttons_ & 1u) != 0 ? 1.0 : 0.0;
+  // The second button's presses walk through the tray (World takes the count modulo its size).
+  out.instrument = instrument_presses_;
   out.end = end_received;
   out.stale = stale_;
   out.disconnected = disconnected;

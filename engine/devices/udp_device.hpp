@@ -96,6 +96,7 @@ class UdpDevice final : public InputDevice {
   Clock::time_point last_packet_;
   Pose pose_;
   std::uint32_t buttons_ = 0;
+  int instrument_presses_ = 0;  // presses of the second button so far
   bool have_pose_ = false;
   std::uint32_t last_sequence_ = 0;
   std::uint32_t out_sequence_ = 0;

@@ -11,7 +11,7 @@ namespace acdr {
 namespace {
 
 constexpr const char* kHeader = "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg";
-constexpr const char* kHeaderWithGrip = "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,grip";
+
 
 double minimum_jerk(double u) { return u * u * u * (10.0 + u * (-15.0 + 6.0 * u)); }
 
@@ -33,6 +33,7 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
   int line_no = 0;
   bool header_seen = false;
   int fields_expected = 7;
+  bool has_grip = false, has_instrument = false;
   double last_t = -1e300;
   auto fail = [&](const std::string& what) {
     if (error) *error = name + ":" + std::to_string(line_no) + ": " + what;
@@ -45,17 +46,26 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
       if (ch != ' ' && ch != '\t' && ch != '\r') compact += ch;
     if (compact.empty() || compact[0] == '#') continue;
     if (!header_seen) {
-      if (compact != kHeader && compact != kHeaderWithGrip)
-        return fail("bad header (got '" + compact + "', expected '" + kHeader + "' or '" +
-                    kHeaderWithGrip + "')");
-      // The grip column passes through to the trajectory's (checked there).
-      if (compact == kHeaderWithGrip) fields_expected = 8;
-      si << (fields_expected == 8 ? "t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip\n"
-                                  : "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n");
+      const std::string base = kHeader;
+      if (compact == base) {
+      } else if (compact == base + ",grip") {
+        has_grip = true;
+      } else if (compact == base + ",instrument") {
+        has_instrument = true;
+      } else if (compact == base + ",grip,instrument") {
+        has_grip = has_instrument = true;
+      } else {
+        return fail("bad header (got '" + compact + "', expected '" + kHeader +
+                    "' with optional columns ',grip' and ',instrument' in that order)");
+      }
+      // The grip and instrument columns pass through to the trajectory's (checked there).
+      fields_expected = 7 + (has_grip ? 1 : 0) + (has_instrument ? 1 : 0);
+      si << "t_s,x_m,y_m,z_m,qw,qx,qy,qz" << (has_grip ? ",grip" : "")
+         << (has_instrument ? ",instrument" : "") << "\n";
       header_seen = true;
       continue;
     }
-    double v[8];
+    double v[9];
     std::istringstream fields(compact);
     std::string field;
     int count = 0;
@@ -76,15 +86,15 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
       return fail("time must increase (got " + std::to_string(v[0]) + " after " +
                   std::to_string(last_t) + ")");
     last_t = v[0];
-    if (fields_expected == 8 && !(v[7] >= 0.0 && v[7] <= 1.0))
+    if (has_grip && !(v[7] >= 0.0 && v[7] <= 1.0))
       return fail("grip out of range (got '" + field + "', expected 0 (open) to 1 (closed))");
     const Quat q = quat_from_rpy_deg(v[4], v[5], v[6]);
     char row[256];
     std::snprintf(row, sizeof row, "%.9g,%.9g,%.9g,%.9g,%.17g,%.17g,%.17g,%.17g", v[0],
                   v[1] * 1e-3, v[2] * 1e-3, v[3] * 1e-3, q.w(), q.x(), q.y(), q.z());
     si << row;
-    if (fields_expected == 8) {
-      std::snprintf(row, sizeof row, ",%.17g", v[7]);
+    for (int c = 7; c < fields_expected; ++c) {
+      std::snprintf(row, sizeof row, ",%.17g", v[c]);
       si << row;
     }
     si << '\n';
@@ -96,7 +106,7 @@ std::optional<Trajectory> parse_waypoints(const std::string& text, const std::st
 Trajectory sample_waypoints(const Trajectory& waypoints, double rate_hz) {
   const auto& w = waypoints.samples();
   std::vector<TrajectorySample> out;
-  if (w.empty()) return Trajectory(out, waypoints.has_grip());
+  if (w.empty()) return Trajectory(out, waypoints.has_grip(), waypoints.has_instrument());
   const double dt = 1.0 / rate_hz;
   const double t0 = w.front().t_s;
   const double t1 = w.back().t_s;
@@ -114,10 +124,12 @@ Trajectory sample_waypoints(const Trajectory& waypoints, double rate_hz) {
     Pose p;
     p.position = a.pose.position + s * (b.pose.position - a.pose.position);
     p.orientation = a.pose.orientation.slerp(s, b.pose.orientation).normalized();
-    out.push_back({t, p, a.grip + s * (b.grip - a.grip)});
+    // The instrument is asked for from its waypoint on, not blended.
+    out.push_back({t, p, a.grip + s * (b.grip - a.grip), u >= 1.0 ? b.instrument : a.instrument});
   }
-  if (out.back().t_s < t1 - 1e-12) out.push_back({t1, w.back().pose, w.back().grip});
-  return Trajectory(std::move(out), waypoints.has_grip());
+  if (out.back().t_s < t1 - 1e-12)
+    out.push_back({t1, w.back().pose, w.back().grip, w.back().instrument});
+  return Trajectory(std::move(out), waypoints.has_grip(), waypoints.has_instrument());
 }
 
 }  // namespace acdr

@@ -34,6 +34,9 @@ struct Collider {
   Vec3 linear_velocity_m_s = Vec3::Zero();
   Vec3 angular_velocity_rad_s = Vec3::Zero();
   int body = -1;  ///< which moving body it belongs to (reactions are summed per body); -1 static
+  /// The gel slides on this surface: the particles' no-slip (viscous) coupling to it is off and
+  /// only its contact pushes them out (a rongeur's open jaws shaken over the tray).
+  bool slip = false;
 
   /// Velocity of the collider's material at world point p.
   Vec3 velocity_at(const Vec3& p) const {

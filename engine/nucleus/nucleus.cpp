@@ -169,6 +169,12 @@ void Nucleus::set_gravity(const Vec3& g) { model_.gravity = g; }
 
 bool Nucleus::is_kinematic(std::size_t i) const { return state_.kinematic[i] != 0; }
 
+void Nucleus::forget_moving_wall_sums() {
+  const auto statics = static_cast<std::int32_t>(model_.statics.size());
+  for (SiteSums& e : work_.site_cache.entries)
+    if (e.collider >= statics) e.collider = -1;
+}
+
 void Nucleus::set_kinematic(std::size_t i, bool kinematic) {
   NucleusState& s = state_;
   const auto id = static_cast<std::int32_t>(i);

@@ -91,6 +91,9 @@ class Nucleus {
   /// steps only; allocates nothing. Particles fixed by the scene stay fixed.
   void set_kinematic(std::size_t i, bool kinematic);
   bool is_kinematic(std::size_t i) const;
+  /// The moving colliders change shape from the next step on (another instrument in hand):
+  /// the wall sums cached against them are dropped (the statics' are kept).
+  void forget_moving_wall_sums();
   /// The pull of particle i's intact bonds built with the lattice on it (N): the sum of
   /// k (r - L) along the bond toward the other particle, at the current positions.
   Vec3 bond_pull_N(std::size_t i) const;

@@ -337,6 +337,7 @@ class WallBuilder {
       w.grad = Vec3::Zero();  // beyond the wall range: only a contact
       w.visc = Eigen::Matrix3d::Zero();
     }
+    if (c.slip) w.visc = Eigen::Matrix3d::Zero();  // the gel slides on it (Collider::slip)
   }
 
   // Local particle k's contact slot, from its contact hits (from first_hit on).

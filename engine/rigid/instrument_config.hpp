@@ -3,6 +3,7 @@
 #pragma once
 
 #include <numbers>
+#include <string>
 
 #include "engine/core/types.hpp"
 
@@ -14,6 +15,8 @@ enum class InstrumentShape { kPrism, kCupCurette, kRongeur };
 /// holds it); the shaft runs from G along local -z to the working tip T = (0, 0, -shaft_length).
 struct InstrumentConfig {
   bool enabled = false;
+  /// What the trainee and the record call it when a scene has several (WorldConfig::instruments).
+  std::string name;
   InstrumentShape shape = InstrumentShape::kPrism;
   double mass_kg = 0.03;
   double shaft_length_m = 0.08;     ///< grip to working tip
@@ -44,6 +47,10 @@ struct InstrumentConfig {
   /// they let it go (the gap between the two keeps a grip from flickering).
   double jaw_hold_closure = 0.9;
   double jaw_release_closure = 0.5;
+  /// Open jaws (at or below jaw_release_closure) whose plates are both outside the removal
+  /// region are shaken off over the tray: the gel slides on them (Collider::slip) instead of
+  /// clinging to them by its no-slip coupling, so what lies on the plates falls off.
+  bool jaw_shake_off = true;
 
   bool has_jaws() const { return shape == InstrumentShape::kRongeur; }
   /// Bending moment at which the shaft yields: M_yield = sigma_y * pi * d^3 / 32.

@@ -28,6 +28,15 @@ Vec3 contact_force_on(const btManifoldPoint& pt, bool on_a, double dt) {
 }
 btTransform to_bt(const Pose& p) { return btTransform(to_bt(p.orientation), to_bt(p.position)); }
 
+// One instrument as Bullet sees it: its compound shape (children about the centre of mass),
+// the centre of mass in the grip frame, mass and principal inertia.
+struct InstrumentShapeData {
+  std::unique_ptr<btCompoundShape> compound;
+  Vec3 com = Vec3::Zero();
+  double mass = 0.0;
+  Vec3 inertia = Vec3::Zero();
+};
+
 }  // namespace
 
 struct RigidWorld::Impl {
@@ -45,7 +54,10 @@ struct RigidWorld::Impl {
   std::vector<std::unique_ptr<btBvhTriangleMeshShape>> mesh_shapes;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> statics;
-  std::unique_ptr<btCompoundShape> instrument_shape;
+  // Every instrument's compound shape and mass properties (the exchange swaps them on the one
+  // body); the shape in hand.
+  std::vector<InstrumentShapeData> instrument_shapes;
+  btCompoundShape* instrument_shape = nullptr;
   std::unique_ptr<btRigidBody> instrument;
   std::unique_ptr<btDefaultMotionState> instrument_motion;
   Pose com_in_grip;  // centre-of-mass frame relative to the grip frame (translation only)
@@ -91,51 +103,13 @@ RigidWorld::RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
   }
 
   if (instrument) {
-    const Vec3 com = instrument->center_of_mass();
-    impl_->com_in_grip.position = com;
-    auto compound = std::make_unique<btCompoundShape>();
-    for (const Collider& c : instrument->local_colliders()) {
-      std::unique_ptr<btCollisionShape> shape;
-      if (c.kind == ColliderKind::kBox) {
-        shape = std::make_unique<btBoxShape>(to_bt(c.half_extents_m));
-      } else if (c.kind == ColliderKind::kCapsule) {
-        shape = std::make_unique<btCapsuleShapeZ>(c.radius_m, 2.0 * c.half_length_m);
-      } else if (c.kind == ColliderKind::kCupShell) {
-        // Bullet sees the cup as its convex hull (a hemisphere), enough for bone contact.
-        auto hull = std::make_unique<btConvexHullShape>();
-        const int rings = 6, segments = 16;
-        for (int i = 0; i <= rings; ++i) {
-          const double polar = 0.5 * SIMD_PI * i / rings;  // 0 at the bottom pole
-          for (int j = 0; j < segments; ++j) {
-            const double az = 2.0 * SIMD_PI * j / segments;
-            hull->addPoint(btVector3(c.radius_m * std::sin(polar) * std::cos(az),
-                                     c.radius_m * std::sin(polar) * std::sin(az),
-                                     -c.radius_m * std::cos(polar)),
-                           false);
-          }
-        }
-        // The hull caches its box with the margin it has when the box is computed; with the
-        // default 0.04 (40 mm here) every query against bone returns thousands of triangles
-        // (300 ms per step on the anatomy scene). So the margin is set first.
-        hull->setMargin(kMargin);
-        hull->recalcLocalAabb();
-        shape = std::move(hull);
-      } else {
-        continue;
-      }
-      shape->setMargin(kMargin);
-      Pose local = c.pose;
-      local.position -= com;  // child transforms relative to the centre of mass
-      compound->addChildShape(to_bt(local), shape.get());
-      impl_->shapes.push_back(std::move(shape));
-    }
-    compound->setMargin(kMargin);
-    const double mass = instrument->config().mass_kg;
+    const int k = add_instrument_shape(*instrument);
+    const InstrumentShapeData& shape = impl_->instrument_shapes[static_cast<std::size_t>(k)];
+    impl_->com_in_grip.position = shape.com;
     impl_->instrument_motion = std::make_unique<btDefaultMotionState>(
-        to_bt(Pose{instrument_start.apply(com), instrument_start.orientation}));
-    btRigidBody::btRigidBodyConstructionInfo info(mass, impl_->instrument_motion.get(),
-                                                  compound.get(),
-                                                  to_bt(instrument->principal_inertia()));
+        to_bt(Pose{instrument_start.apply(shape.com), instrument_start.orientation}));
+    btRigidBody::btRigidBodyConstructionInfo info(shape.mass, impl_->instrument_motion.get(),
+                                                  shape.compound.get(), to_bt(shape.inertia));
     info.m_friction = 0.3;
     impl_->instrument = std::make_unique<btRigidBody>(info);
     impl_->instrument->setActivationState(DISABLE_DEACTIVATION);
@@ -147,9 +121,86 @@ RigidWorld::RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
     // Continuous collision: the blade is 2 mm thick and may move 1 mm per step.
     impl_->instrument->setCcdMotionThreshold(5e-4);
     impl_->instrument->setCcdSweptSphereRadius(2e-4);
-    impl_->instrument_shape = std::move(compound);
+    impl_->instrument_shape = shape.compound.get();
     w.addRigidBody(impl_->instrument.get());
   }
+}
+
+int RigidWorld::add_instrument_shape(const InstrumentGeometry& instrument) {
+  InstrumentShapeData data;
+  data.com = instrument.center_of_mass();
+  data.mass = instrument.config().mass_kg;
+  data.inertia = instrument.principal_inertia();
+  data.compound = std::make_unique<btCompoundShape>();
+  for (const Collider& c : instrument.local_colliders()) {
+    std::unique_ptr<btCollisionShape> shape;
+    if (c.kind == ColliderKind::kBox) {
+      shape = std::make_unique<btBoxShape>(to_bt(c.half_extents_m));
+    } else if (c.kind == ColliderKind::kCapsule) {
+      shape = std::make_unique<btCapsuleShapeZ>(c.radius_m, 2.0 * c.half_length_m);
+    } else if (c.kind == ColliderKind::kCupShell) {
+      // Bullet sees the cup as its convex hull (a hemisphere), enough for bone contact.
+      auto hull = std::make_unique<btConvexHullShape>();
+      const int rings = 6, segments = 16;
+      for (int i = 0; i <= rings; ++i) {
+        const double polar = 0.5 * SIMD_PI * i / rings;  // 0 at the bottom pole
+        for (int j = 0; j < segments; ++j) {
+          const double az = 2.0 * SIMD_PI * j / segments;
+          hull->addPoint(btVector3(c.radius_m * std::sin(polar) * std::cos(az),
+                                   c.radius_m * std::sin(polar) * std::sin(az),
+                                   -c.radius_m * std::cos(polar)),
+                         false);
+        }
+      }
+      // The hull caches its box with the margin it has when the box is computed; with the
+      // default 0.04 (40 mm here) every query against bone returns thousands of triangles
+      // (300 ms per step on the anatomy scene). So the margin is set first.
+      hull->setMargin(kMargin);
+      hull->recalcLocalAabb();
+      shape = std::move(hull);
+    } else {
+      continue;
+    }
+    shape->setMargin(kMargin);
+    Pose local = c.pose;
+    local.position -= data.com;  // child transforms relative to the centre of mass
+    data.compound->addChildShape(to_bt(local), shape.get());
+    impl_->shapes.push_back(std::move(shape));
+  }
+  data.compound->setMargin(kMargin);
+  impl_->instrument_shapes.push_back(std::move(data));
+  return static_cast<int>(impl_->instrument_shapes.size()) - 1;
+}
+
+void RigidWorld::exchange_instrument(int index) {
+  auto* body = impl_->instrument.get();
+  const InstrumentShapeData& shape = impl_->instrument_shapes.at(static_cast<std::size_t>(index));
+  if (!body || shape.compound.get() == impl_->instrument_shape) return;
+  // The grip keeps its pose and velocities: the hand holds the new instrument where it held
+  // the old one.
+  const Pose grip = instrument_grip();
+  const Vec3 v_grip = instrument_grip_velocity();
+  const Vec3 omega = instrument_angular_velocity();
+  auto& w = impl_->world;
+  // Contacts of the old shape go with it (their manifolds name its children).
+  w.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(body->getBroadphaseHandle(),
+                                                                    w.getDispatcher());
+  body->setCollisionShape(shape.compound.get());
+  body->setMassProps(shape.mass, to_bt(shape.inertia));
+  impl_->instrument_shape = shape.compound.get();
+  impl_->com_in_grip.position = shape.com;
+  const btTransform xf = to_bt(Pose{grip.apply(shape.com), grip.orientation});
+  body->setWorldTransform(xf);
+  body->setInterpolationWorldTransform(xf);
+  if (body->getMotionState()) body->getMotionState()->setWorldTransform(xf);
+  body->updateInertiaTensor();
+  const Vec3 v_com = v_grip + omega.cross(Vec3(grip.orientation * shape.com));
+  body->setLinearVelocity(to_bt(v_com));
+  body->setAngularVelocity(to_bt(omega));
+  body->setInterpolationLinearVelocity(to_bt(v_com));
+  body->setInterpolationAngularVelocity(to_bt(omega));
+  body->clearForces();
+  w.updateSingleAabb(body);
 }
 
 RigidWorld::~RigidWorld() {

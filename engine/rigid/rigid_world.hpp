@@ -50,6 +50,13 @@ class RigidWorld {
   /// the body frame, for parts that move on the body (a rongeur's jaws).
   void set_instrument_part(int index, const Pose& local);
 
+  /// Adds another instrument's shape (built now, so an exchange allocates none); returns its
+  /// index for exchange_instrument. The instrument of the constructor is index 0.
+  int add_instrument_shape(const InstrumentGeometry& instrument);
+  /// Puts instrument `index`'s shape and mass in the hand: the grip keeps its pose and
+  /// velocities, the old shape's contacts are dropped.
+  void exchange_instrument(int index);
+
   /// Places the instrument (grip pose) at rest, e.g. at the start.
   void place_instrument(const Pose& grip);
 

@@ -62,12 +62,19 @@ World::World(const WorldConfig& config)
     frame_.zone_count = static_cast<std::int32_t>(anatomy_->zones().size());
   }
   if (config_.instrument.enabled) {
-    instrument_.emplace(config_.instrument);
-    coupling_ = coupling_gains(config_.coupling, config_.instrument.mass_kg,
+    if (config_.instruments.empty()) {
+      tray_.emplace_back(config_.instrument);
+    } else {
+      tray_.reserve(config_.instruments.size());
+      for (const InstrumentConfig& ic : config_.instruments) tray_.emplace_back(ic);
+    }
+    instrument_ = &tray_.front();
+    coupling_ = coupling_gains(config_.coupling, instrument_->config().mass_kg,
                                instrument_->principal_inertia().x());
   }
   rigid_ = std::make_unique<RigidWorld>(config_.gravity_m_s2, config_.instrument_start,
-                                        instrument_ ? &*instrument_ : nullptr, static_colliders_);
+                                        instrument_, static_colliders_);
+  for (std::size_t k = 1; k < tray_.size(); ++k) rigid_->add_instrument_shape(tray_[k]);
   if (anatomy_) {
     // Bone as static Bullet triangle meshes: the instrument's contacts with it are measured.
     rigid_->add_static_mesh(anatomy_->vertebra(VertebraLevel::kC4));
@@ -87,14 +94,19 @@ World::World(const WorldConfig& config)
     nucleus_ = std::make_unique<Nucleus>(config_.nucleus, solver, config_.gravity_m_s2,
                                          static_colliders_, options);
   }
-  if (instrument_ && nucleus_ && config_.instrument.has_jaws()) {
+  const bool any_jaws = std::any_of(tray_.begin(), tray_.end(), [](const InstrumentGeometry& g) {
+    return g.config().has_jaws();
+  });
+  if (instrument_ && nucleus_ && any_jaws) {
     // The jaws can hold at most every particle: the lists never grow inside a step.
     held_.reserve(nucleus_->particle_count());
     held_local_.reserve(nucleus_->particle_count());
   }
   if (instrument_) {
     rigid_->place_instrument(config_.instrument_start);
-    moving_.reserve(instrument_->local_colliders().size());
+    std::size_t most = 0;  // colliders of the largest instrument: an exchange never allocates
+    for (const InstrumentGeometry& g : tray_) most = std::max(most, g.local_colliders().size());
+    moving_.reserve(most);
     instrument_->world_colliders(config_.instrument_start, Vec3::Zero(), Vec3::Zero(), moving_);
   }
   reactions_.resize(1);
@@ -169,7 +181,59 @@ void World::read_input(const DeviceSample& sample, StepData& s) {
   s.target.angular_velocity_rad_s =
       rotation_between(last_target_orientation_, in.target.orientation) / config_.solver.dt_s;
   last_target_orientation_ = in.target.orientation;
-  if (instrument_ && config_.instrument.has_jaws()) update_jaws(sample);
+  if (!instrument_) return;
+  // Modulo the tray: a device counting presses of a button walks through it.
+  if (sample.instrument >= 0 && !sample.stale)
+    requested_instrument_ = sample.instrument % static_cast<int>(tray_.size());
+  if (requested_instrument_ != instrument_index_) exchange_instrument_when_out();
+  if (instrument_->config().has_jaws()) update_jaws(sample);
+}
+
+// Whether the instrument in hand is out of the disc: its head (every part but the shaft, the
+// last collider; a rongeur's jaws where they stand), the shaft's tip and the working point all
+// outside the removal region.
+bool World::instrument_outside_region() const {
+  const Vec3 lo = config_.removal.min_m, hi = config_.removal.max_m;
+  const Pose grip = rigid_->instrument_grip();
+  const InstrumentGeometry& g = *instrument_;
+  const auto& parts = g.local_colliders();
+  const bool jaws = g.config().has_jaws();
+  for (std::size_t k = 0; k + 1 < parts.size(); ++k) {
+    const Vec3 local = jaws && k < static_cast<std::size_t>(InstrumentGeometry::kJawCount)
+                           ? g.jaw_pose(static_cast<int>(k), jaw_closure_).position
+                           : parts[k].pose.position;
+    if (!outside_region(grip.apply(local), lo, hi)) return false;
+  }
+  return outside_region(grip.apply(Vec3(0, 0, -g.config().shaft_length_m)), lo, hi) &&
+         outside_region(grip.apply(g.working_point()), lo, hi);
+}
+
+// The hand puts the instrument down and takes the one it asked for, once the one in hand is
+// out of the disc and holds nothing (a rongeur is emptied first). The new one is held where
+// the old one was, moving as it moved; a rongeur comes open; the particles' cached sums
+// against the old shapes are dropped, and their reaction starts afresh at the next step.
+void World::exchange_instrument_when_out() {
+  if (!held_.empty() || !instrument_outside_region()) return;
+  instrument_index_ = requested_instrument_;
+  instrument_ = &tray_[static_cast<std::size_t>(instrument_index_)];
+  rigid_->exchange_instrument(instrument_index_);
+  coupling_ = coupling_gains(config_.coupling, instrument_->config().mass_kg,
+                             instrument_->principal_inertia().x());
+  jaw_closure_ = 0.0;
+  jaw_rate_ = 0.0;
+  jaws_were_closed_ = false;
+  if (instrument_->config().has_jaws())
+    for (int k = 0; k < InstrumentGeometry::kJawCount; ++k)
+      rigid_->set_instrument_part(k, instrument_->jaw_pose(k, 0.0));
+  const Pose grip = rigid_->instrument_grip();
+  const Vec3 omega = rigid_->instrument_angular_velocity();
+  instrument_->world_colliders(grip, rigid_->instrument_grip_velocity(), omega, moving_);
+  reactions_[0] = BodyReaction{};
+  reactions_[0].reference_point = rigid_->instrument_com_world();
+  stepped_point_velocity_ = rigid_->instrument_com_velocity();
+  stepped_angular_velocity_ = omega;
+  if (nucleus_) nucleus_->forget_moving_wall_sums();
+  emit(EventKind::kInstrumentExchange, instrument_index_, instrument_->config().name.c_str());
 }
 
 // The jaws follow the hand's grip no faster than a full closing in jaw_close_time_s (a button
@@ -179,7 +243,7 @@ void World::update_jaws(const DeviceSample& sample) {
   const double dt = config_.solver.dt_s;
   const double target =
       sample.stale || !std::isfinite(sample.grip) ? jaw_closure_ : std::clamp(sample.grip, 0.0, 1.0);
-  const double step_max = dt / std::max(config_.instrument.jaw_close_time_s, dt);
+  const double step_max = dt / std::max(instrument_->config().jaw_close_time_s, dt);
   const double next = jaw_closure_ + std::clamp(target - jaw_closure_, -step_max, step_max);
   jaw_rate_ = (next - jaw_closure_) / dt;
   if (next == jaw_closure_) return;
@@ -194,7 +258,7 @@ void World::update_jaws(const DeviceSample& sample) {
 // particles go free where they are, moving with the jaws (Nucleus::set_kinematic). Jaws opened
 // less than that and closed again bite once more and keep what they held.
 void World::grasp_or_release(const Pose& grip) {
-  const InstrumentConfig& ic = config_.instrument;
+  const InstrumentConfig& ic = instrument_->config();
   const bool closed = jaw_closure_ >= ic.jaw_hold_closure;
   const bool bite = closed && !jaws_were_closed_;
   jaws_were_closed_ = closed;
@@ -237,6 +301,23 @@ void World::carry_held(const Pose& grip, const Vec3& v_grip, const Vec3& omega) 
   }
 }
 
+// The hand shakes what lies on the open jaws off over the tray (InstrumentConfig::jaw_shake_off):
+// while the jaws are open and both plates' centres are outside the removal region, the gel
+// slides on the plates. A 300 Pa s film clings to a still plate (it creeps off under its own
+// weight at some 30 um/s), but a tap of the forceps on the tray's rim or a flick of the wrist
+// gives the film accelerations many times g and throws it off; the model has no such shake,
+// so it lets the film slide on the whole instrument instead (gel lodged between the jaws also
+// touches the shaft's end at the hinge). Inside the disc, and with the jaws closed, it keeps
+// its no-slip coupling.
+void World::shake_off_jaws() {
+  const InstrumentConfig& ic = instrument_->config();
+  if (!ic.jaw_shake_off || jaw_closure_ > ic.jaw_release_closure) return;
+  const Vec3 lo = config_.removal.min_m, hi = config_.removal.max_m;
+  for (int k = 0; k < InstrumentGeometry::kJawCount; ++k)
+    if (!outside_region(moving_[k].pose.position, lo, hi)) return;
+  for (Collider& c : moving_) c.slip = true;  // the shake throws it off the shaft's end too
+}
+
 // What the held material does to the instrument over the particle step: its weight, the pull
 // of its bonds to the free gel (until they tear) and the force that changed its momentum,
 // added to the particles' reaction about the same reference point.
@@ -277,11 +358,12 @@ void World::step_nucleus() {
     const Vec3 v_grip = v_com + omega.cross(grip.position - com);
     reactions_[0] = BodyReaction{};
     reactions_[0].reference_point = com;
-    if (nucleus_ && config_.instrument.has_jaws()) {
+    if (nucleus_ && instrument_->config().has_jaws()) {
       grasp_or_release(grip);
       carry_held(grip, v_grip, omega);
     }
     instrument_->world_colliders(grip, v_grip, omega, moving_, jaw_closure_, jaw_rate_);
+    if (instrument_->config().has_jaws()) shake_off_jaws();
     stepped_point_velocity_ = v_com;  // the reference point is the centre of mass here
     stepped_angular_velocity_ = omega;
     moving = moving_;
@@ -307,7 +389,7 @@ void World::step_instrument(StepData& s) {
   const double dt = config_.solver.dt_s;
   BodyReaction reaction = reactions_[0];
   InstrumentBodyState body;
-  body.mass_kg = config_.instrument.mass_kg;
+  body.mass_kg = instrument_->config().mass_kg;
   body.inertia_kg_m2 = rigid_->instrument_world_inertia();
   body.com_m = rigid_->instrument_com_world();
   body.com_velocity_m_s = rigid_->instrument_com_velocity();
@@ -359,7 +441,7 @@ void World::step_instrument(StepData& s) {
 void World::check_shaft_load(const Pose& grip, const Vec3& nucleus_moment_Nm,
                              const RigidContact& contact) {
   const Vec3 weight_moment = (rigid_->instrument_com_world() - grip.position)
-                                 .cross(config_.instrument.mass_kg * config_.gravity_m_s2);
+                                 .cross(instrument_->config().mass_kg * config_.gravity_m_s2);
   frame_.bending_moment_Nm = shaft_bending_moment_Nm(
       nucleus_moment_Nm + contact.torque_about_grip_Nm + weight_moment,
       grip.orientation * Vec3::UnitZ());

@@ -87,7 +87,10 @@ class World {
   const Nucleus* nucleus() const { return nucleus_.get(); }
   /// The anatomical scene (vertebrae, grids, zones), or null without anatomy.
   const Anatomy* anatomy() const { return anatomy_.get(); }
-  const InstrumentGeometry* instrument() const { return instrument_ ? &*instrument_ : nullptr; }
+  /// The instrument in hand, or null without one.
+  const InstrumentGeometry* instrument() const { return instrument_; }
+  /// Its index among WorldConfig::instruments (0 when the scene has one instrument).
+  int instrument_index() const { return instrument_index_; }
   const std::vector<Collider>& static_colliders() const { return static_colliders_; }
   /// Instrument colliders at the current pose (empty without an instrument).
   const std::vector<Collider>& instrument_colliders() const { return moving_; }
@@ -117,9 +120,12 @@ class World {
   void record(const StepData& s);
 
   void update_jaws(const DeviceSample& sample);
+  void exchange_instrument_when_out();
+  bool instrument_outside_region() const;
   void grasp_or_release(const Pose& grip);
   void carry_held(const Pose& grip, const Vec3& v_grip, const Vec3& omega);
   void add_held_reaction(double dt);
+  void shake_off_jaws();
   void check_shaft_load(const Pose& grip, const Vec3& nucleus_moment_Nm,
                         const RigidContact& contact);
   void evaluate_zones_and_emit(const Vec3& tissue_force_N);
@@ -131,7 +137,10 @@ class World {
   WorldSummary summary_;
   // Declared before the rigid world and the nucleus: their colliders point into its grids.
   std::unique_ptr<Anatomy> anatomy_;
-  std::optional<InstrumentGeometry> instrument_;
+  std::vector<InstrumentGeometry> tray_;  // WorldConfig::instruments (or the one instrument)
+  const InstrumentGeometry* instrument_ = nullptr;  // the one in hand, in tray_
+  int instrument_index_ = 0;
+  int requested_instrument_ = 0;  // what the hand last asked for (DeviceSample::instrument)
   std::vector<Collider> static_colliders_;
   std::unique_ptr<RigidWorld> rigid_;
   std::unique_ptr<Nucleus> nucleus_;

@@ -4,6 +4,8 @@
 // part is declared in that room; this gathers them.
 #pragma once
 
+#include <vector>
+
 #include "engine/anatomy/anatomy_config.hpp"
 #include "engine/core/types.hpp"
 #include "engine/devices/device_config.hpp"
@@ -24,7 +26,11 @@ struct WorldConfig {
   GroundConfig ground;
   OpenBoxConfig box;
   NucleusConfig nucleus;
-  InstrumentConfig instrument;
+  InstrumentConfig instrument;  ///< the instrument in hand at the start
+  /// The instruments on the tray, when the scene has more than one: the first is `instrument`,
+  /// and the hand exchanges them (DeviceSample::instrument) only with the instrument in hand
+  /// outside the removal region. Empty: `instrument` is the only one.
+  std::vector<InstrumentConfig> instruments;
   CouplingConfig coupling;
   DeviceConfig device;
   SolverConfig solver;

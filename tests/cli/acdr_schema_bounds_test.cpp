@@ -80,7 +80,10 @@ void walk(const json& object_schema, const std::string& pattern, std::vector<Num
     const json& node = it.value();
     const json type = node.value("type", json());
     if (type == "object") walk(node, p, out);
-    if (type == "array" && node.contains("items") && node["items"].value("type", json()) == "object") {
+    // A tray's instruments are read as /world/instrument is (the same keys and bounds), which
+    // this walk already reaches.
+    if (type == "array" && node.contains("items") && node["items"].value("type", json()) == "object" &&
+        p != "/world/instruments") {
       walk(node["items"], p + "/*", out);
     }
     NumericKey k;

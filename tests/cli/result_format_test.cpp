@@ -69,5 +69,28 @@ TEST(ResultFormat, LivePartsAppearOnlyForALiveAttempt) {
   EXPECT_NE(s.find("  checkpoints            3 saved every 0.5 s"), std::string::npos) << s;
 }
 
+TEST(ResultFormat, AnAttemptWithATraySaysWhichInstrumentWasInHandWhen) {
+  SessionResult r = stored_result();
+  // Without a tray: no line, no field.
+  EXPECT_EQ(result_summary(r, "").find("instruments"), std::string::npos);
+  EXPECT_FALSE(result_json(r, "").contains("instruments"));
+  auto scenario = std::make_shared<ScenarioModel>(*r.scenario);
+  InstrumentConfig rongeur, cup;
+  rongeur.name = "pituitary rongeur";
+  cup.name = "cup curette";
+  scenario->world.instruments = {rongeur, cup};
+  r.scenario = scenario;
+  r.run.record.events.push_back(Event{71.29, EventKind::kInstrumentExchange, 1.0, "cup curette"});
+  const std::string s = result_summary(r, "");
+  EXPECT_NE(s.find("  instruments            pituitary rongeur from 0.00 s, cup curette from 71.29 s\n"),
+            std::string::npos)
+      << s;
+  const nlohmann::json j = result_json(r, "");
+  ASSERT_EQ(j["instruments"].size(), 2u);
+  EXPECT_EQ(j["instruments"][0]["name"], "pituitary rongeur");
+  EXPECT_EQ(j["instruments"][1]["from_s"], 71.29);
+  EXPECT_EQ(j["instruments"][1]["name"], "cup curette");
+}
+
 }  // namespace
 }  // namespace acdr

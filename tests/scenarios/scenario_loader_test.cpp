@@ -153,6 +153,7 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.instrument.jaw_wall_m, 0.0003, kTol);
   EXPECT_NEAR(w.instrument.jaw_opening_rad, 40.0 * M_PI / 180.0, 1e-12);
   EXPECT_NEAR(w.instrument.jaw_close_time_s, 0.3, 1e-12);
+  EXPECT_FALSE(w.instrument.jaw_shake_off);
   // 30 degrees about +y.
   const Quat expected(std::cos(M_PI / 12), 0.0, std::sin(M_PI / 12), 0.0);
   EXPECT_TRUE(w.instrument_start.orientation.isApprox(expected, 1e-12));
@@ -227,6 +228,7 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(in.jaw_wall_m, id.jaw_wall_m);
   EXPECT_NE(in.jaw_opening_rad, id.jaw_opening_rad);
   EXPECT_NE(in.jaw_close_time_s, id.jaw_close_time_s);
+  EXPECT_NE(in.jaw_shake_off, id.jaw_shake_off);
   const CouplingConfig& cd = d.world.coupling;
   EXPECT_NE(w.coupling.stiffness_N_m, cd.stiffness_N_m);
   EXPECT_NE(w.coupling.damping_Ns_m, cd.damping_Ns_m);
@@ -494,6 +496,67 @@ TEST(ScenarioLoader, RongeurShapeAndJaws) {
   EXPECT_NEAR(in.jaw_width_m, 0.0025, kTol);
   EXPECT_NEAR(in.jaw_depth_m, 0.0009, kTol);
   EXPECT_NEAR(in.jaw_opening_rad, 45.0 * M_PI / 180.0, 1e-12);
+}
+
+TEST(ScenarioLoader, ATrayOfInstrumentsWithTheFirstInHand) {
+  // Listed in the file order: the rongeur first, then the module's blade as it was.
+  std::string text = replace_once(box_module_text(), "\"instrument\": {\n      \"shape\": \"prism\",",
+                                  "\"instruments\": [{ \"name\": \"pituitary rongeur\", "
+                                  "\"shape\": \"rongeur\", \"jaw_length_mm\": 5 }, {\n"
+                                  "      \"name\": \"blade\", \"shape\": \"prism\",");
+  text = replace_once(text, "\"mass_g\": 30\n    },", "\"mass_g\": 30\n    }],");
+  const LoadResult r = load_scenario_text(text, "m.json");
+  ASSERT_TRUE(r.ok()) << to_string(r.errors);
+  const WorldConfig& w = r.model->world;
+  ASSERT_EQ(w.instruments.size(), 2u);
+  EXPECT_EQ(w.instruments[0].name, "pituitary rongeur");
+  EXPECT_EQ(w.instruments[0].shape, InstrumentShape::kRongeur);
+  EXPECT_NEAR(w.instruments[0].jaw_length_m, 0.005, kTol);
+  EXPECT_EQ(w.instruments[1].name, "blade");
+  EXPECT_EQ(w.instruments[1].shape, InstrumentShape::kPrism);
+  EXPECT_NEAR(w.instruments[1].blade_size_m.x(), 0.010, kTol);
+  // The one in hand at the start is the first.
+  EXPECT_TRUE(w.instrument.enabled);
+  EXPECT_EQ(w.instrument.shape, InstrumentShape::kRongeur);
+  EXPECT_EQ(w.instrument.name, "pituitary rongeur");
+  // One instrument, as before: no tray.
+  const LoadResult one = load_scenario_text(box_module_text(), "m.json");
+  ASSERT_TRUE(one.ok());
+  EXPECT_TRUE(one.model->world.instruments.empty());
+}
+
+TEST(ScenarioLoaderErrors, TrayErrorsNameTheInstrument) {
+  // Both spellings at once.
+  std::string both = replace_once(box_module_text(), "\"instrument_start\": {",
+                                  "\"instruments\": [{ \"name\": \"a\" }, { \"name\": \"b\" }],\n"
+                                  "    \"instrument_start\": {");
+  auto errors = errors_of(both);
+  const ScenarioError* e = find_error(errors, "/world/instruments");
+  ASSERT_NE(e, nullptr);
+  EXPECT_EQ(e->message, "give either \"instrument\" (one) or \"instruments\" (the tray), not both");
+  // A name twice, a missing name, a shaft of its own, a tray of one.
+  const std::string base = replace_once(box_module_text(), "\"instrument\": {\n      \"shape\": \"prism\",",
+                                        "\"instruments\": [{ \"name\": \"cup\", \"shape\": \"cup_curette\" }, "
+                                        "{ \"shape\": \"rongeur\" }, { \"name\": \"cup\" }, "
+                                        "{ \"name\": \"thick\", \"shaft_diameter_mm\": 3 }, {\n"
+                                        "      \"name\": \"blade\", \"shape\": \"prism\",");
+  errors = errors_of(replace_once(base, "\"mass_g\": 30\n    },", "\"mass_g\": 30\n    }],"));
+  const ScenarioError* unnamed = find_error(errors, "/world/instruments/1/name");
+  ASSERT_NE(unnamed, nullptr);
+  const ScenarioError* twice = find_error(errors, "/world/instruments/2/name");
+  ASSERT_NE(twice, nullptr);
+  EXPECT_EQ(twice->message, "instrument name used twice (got \"cup\", expected a name of its own)");
+  const ScenarioError* thick = find_error(errors, "/world/instruments/3");
+  ASSERT_NE(thick, nullptr);
+  EXPECT_EQ(thick->message,
+            "instrument \"thick\" has another shaft than the first (got diameter 3 mm, yield 500 "
+            "MPa, warning 0.5; expected 2 mm, 500 MPa, 0.5: the record keeps one yield moment)");
+  const std::string one = replace_once(box_module_text(), "\"instrument\": {\n      \"shape\": \"prism\",",
+                                       "\"instruments\": [{\n      \"name\": \"blade\", \"shape\": \"prism\",");
+  errors = errors_of(replace_once(one, "\"mass_g\": 30\n    },", "\"mass_g\": 30\n    }],"));
+  const ScenarioError* few = find_error(errors, "/world/instruments");
+  ASSERT_NE(few, nullptr);
+  EXPECT_NE(few->message.find("too few items"), std::string::npos) << few->message;
 }
 
 TEST(ScenarioLoaderErrors, RongeurJawsOutOfShapeOrRange) {

@@ -95,8 +95,10 @@ class ScenarioSchema : public ::testing::Test {
   void SetUp() override {
     schema_ = json::parse(test::read_text(test::source_path("scenarios/scenario.schema.json")));
     walk(schema_, "", schema_keys_);
-    // The complete fixture and the box module between them reach every read of the loader.
-    for (const char* file : {"tests/scenarios/data/complete.json", "scenarios/modules/01_box_warmup.json"}) {
+    // The complete fixtures (one instrument, and the same scene with a tray) and the box module
+    // between them reach every read of the loader.
+    for (const char* file : {"tests/scenarios/data/complete.json", "tests/scenarios/data/complete_tray.json",
+                             "scenarios/modules/01_box_warmup.json"}) {
       const LoadResult r = load_scenario_text(test::read_text(test::source_path(file)),
                                               test::source_path(file), &registry_);
       ASSERT_TRUE(r.ok()) << to_string(r.errors);

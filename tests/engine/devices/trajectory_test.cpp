@@ -172,6 +172,91 @@ TEST(Trajectory, GripErrorsNameFileLineAndValue) {
   EXPECT_NE(error.find("m.csv:2: expected 9 fields, got 8"), std::string::npos) << error;
 }
 
+TEST(Trajectory, ReadsAnOptionalInstrumentColumnHeldFromSampleToSample) {
+  std::string error;
+  auto t = Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,grip,instrument\n0,0,0,0,1,0,0,0,0,0\n1,0,0,0,1,0,0,0,1,1\n"
+      "2,0,0,0,1,0,0,0,1,0\n",
+      "i.csv", &error);
+  ASSERT_TRUE(t) << error;
+  EXPECT_TRUE(t->has_grip());
+  EXPECT_TRUE(t->has_instrument());
+  EXPECT_EQ(t->max_instrument(), 1);
+  EXPECT_EQ(t->instrument_at(0.5), 0);   // not blended: held until the next sample
+  EXPECT_EQ(t->instrument_at(0.999), 0);
+  EXPECT_EQ(t->instrument_at(1.0), 1);
+  EXPECT_EQ(t->instrument_at(1.5), 1);
+  EXPECT_EQ(t->instrument_at(9.0), 0);
+  EXPECT_DOUBLE_EQ(t->grip_at(0.5), 0.5);
+  TrajectoryReplay replay(*t);
+  DeviceSample s;
+  replay.sample(1.25, s);
+  EXPECT_EQ(s.instrument, 1);
+  // Without a grip, the instrument is the ninth field; saved and loaded, the column stays.
+  auto only = Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,instrument\n0,0,0,0,1,0,0,0,2\n", "o.csv", &error);
+  ASSERT_TRUE(only) << error;
+  EXPECT_FALSE(only->has_grip());
+  EXPECT_EQ(only->instrument_at(0.0), 2);
+  const std::string path = ::testing::TempDir() + "/instrument.csv";
+  ASSERT_TRUE(t->save_csv(path, &error)) << error;
+  auto back = Trajectory::load_csv(path, &error);
+  ASSERT_TRUE(back) << error;
+  EXPECT_TRUE(back->has_instrument());
+  EXPECT_EQ(back->samples()[1].instrument, 1);
+  // Files without the column ask for no instrument: the one in hand stays.
+  auto plain = Trajectory::parse_csv(kTwoSamples, "mem.csv", &error);
+  ASSERT_TRUE(plain) << error;
+  EXPECT_FALSE(plain->has_instrument());
+  EXPECT_EQ(plain->instrument_at(0.5), -1);
+  TrajectoryReplay plain_replay(*plain);
+  plain_replay.sample(0.5, s);
+  EXPECT_EQ(s.instrument, -1);
+}
+
+TEST(Trajectory, InstrumentErrorsNameFileLineAndValue) {
+  std::string error;
+  EXPECT_FALSE(Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,instrument\n0,0,0,0,1,0,0,0,0\n1,0,0,0,1,0,0,0,1.5\n", "i.csv",
+      &error));
+  EXPECT_NE(error.find("i.csv:3: instrument out of range (got 1.5, expected a whole number 0 to "
+                       "255"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,instrument\n0,0,0,0,1,0,0,0,-1\n", "n.csv", &error));
+  EXPECT_NE(error.find("n.csv:2: instrument out of range (got -1"), std::string::npos) << error;
+  // The columns in the other order are not a header.
+  EXPECT_FALSE(Trajectory::parse_csv(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,instrument,grip\n0,0,0,0,1,0,0,0,0,0\n", "h.csv", &error));
+  EXPECT_NE(error.find("h.csv:1: bad header (got 't_s,x_m,y_m,z_m,qw,qx,qy,qz,instrument,grip', "
+                       "expected 't_s,x_m,y_m,z_m,qw,qx,qy,qz' with optional columns ',grip' and "
+                       "',instrument' in that order)"),
+            std::string::npos)
+      << error;
+}
+
+TEST(WaypointPath, PassesTheInstrumentThroughFromItsWaypointOn) {
+  std::string error;
+  auto w = parse_waypoints(
+      "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,grip,instrument\n0,0,0,0,0,0,0,0,0\n"
+      "1,10,0,0,0,0,0,1,1\n2,10,0,0,0,0,0,1,1\n",
+      "w.csv", &error);
+  ASSERT_TRUE(w) << error;
+  const Trajectory t = sample_waypoints(*w, 1000.0);
+  EXPECT_TRUE(t.has_instrument());
+  EXPECT_EQ(t.instrument_at(0.5), 0);
+  EXPECT_EQ(t.instrument_at(1.0), 1);
+  EXPECT_EQ(t.instrument_at(1.7), 1);
+  EXPECT_NEAR(t.grip_at(0.5), 0.5, 1e-9);
+  auto no_grip = parse_waypoints(
+      "t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,instrument\n0,0,0,0,0,0,0,1\n", "v.csv",
+      &error);
+  ASSERT_TRUE(no_grip) << error;
+  EXPECT_FALSE(no_grip->has_grip());
+  EXPECT_EQ(no_grip->instrument_at(0.0), 1);
+}
+
 TEST(WaypointPath, PassesTheGripThroughAlongTheMinimumJerkProfile) {
   std::string error;
   auto w = parse_waypoints(

@@ -81,5 +81,48 @@ TEST(WorldAllocation, RongeurBiteAllocatesNothing) {
   EXPECT_EQ(during, 0) << "heap allocations inside World::step";
 }
 
+// An exchange within the attempt: the blade scoops, goes out, the hand takes the rongeur, which
+// bites, opens outside the disc (the shed load slides off) and gives the blade back. The
+// shapes were built with the world: the exchanges allocate nothing.
+TEST(WorldAllocation, InstrumentExchangeAllocatesNothing) {
+  WorldConfig c = small_box();
+  InstrumentConfig blade = c.instrument;
+  blade.name = "blade";
+  InstrumentConfig rongeur = c.instrument;
+  rongeur.name = "rongeur";
+  rongeur.shape = InstrumentShape::kRongeur;
+  rongeur.jaw_length_m = 6e-3;
+  c.instruments = {blade, rongeur};
+  c.instrument_start.position = Vec3(0, 0, 0.07);
+  World w(c);
+  DeviceSample s;
+  s.pose.position = Vec3(0, 0, 0.07);
+  s.instrument = 0;
+  for (int i = 0; i < 60; ++i) w.step(s);
+  const long before = test_support::heap_allocations();
+  for (int i = 0; i < 2400; ++i) {
+    const double t = i * 1e-3;
+    if (t < 0.3) s.pose.position.z() -= 4.0e-5;          // the blade into the gel
+    else if (t < 0.6) s.pose.position.z() += 4.0e-5;     // and out
+    else if (t < 0.7) s.instrument = 1;                  // the rongeur
+    else if (t < 1.0) s.pose.position.z() -= 4.4e-5;     // down, jaws open
+    else if (t < 1.3) s.grip = 1.0;                      // close
+    else if (t < 1.6) s.pose.position.z() += 5e-5;       // lift the bite
+    else if (t < 2.0) s.grip = 0.0;                      // open: it falls off
+    else s.instrument = 0;                               // the blade again
+    w.step(s);
+  }
+  const long during = test_support::heap_allocations() - before;
+  ASSERT_FALSE(w.failed());
+  std::vector<Event> events;
+  w.drain_events(events);
+  int exchanges = 0;
+  for (const Event& e : events) exchanges += e.kind == EventKind::kInstrumentExchange;
+  EXPECT_EQ(exchanges, 2);  // to the rongeur and back
+  EXPECT_EQ(w.instrument_index(), 0);
+  EXPECT_GT(w.last_frame().removed_target, 0);
+  EXPECT_EQ(during, 0) << "heap allocations inside World::step";
+}
+
 }  // namespace
 }  // namespace acdr

@@ -236,7 +236,10 @@ DeviceSample grip_at(double z, double grip) {
 }
 
 TEST(WorldGrasp, ClosedJawsCarryWhatIsBetweenThemAndOpeningLetsItGo) {
-  World w(rongeur_box());
+  // The grasp alone: opened above the box, the jaws would also shake the gel off (below).
+  WorldConfig c = rongeur_box();
+  c.instrument.jaw_shake_off = false;
+  World w(c);
   const Nucleus& n = *w.nucleus();
   // Down with the jaws open until their tips are 0.8 mm above the floor, and rest.
   const double z0 = 0.07, z1 = 0.0568;
@@ -312,6 +315,114 @@ TEST(WorldGrasp, ClosedJawsCarryWhatIsBetweenThemAndOpeningLetsItGo) {
   for (int i = 0; i < 100; ++i) w.step(grip_at(z, 0.0));
   for (const std::int32_t k : held) EXPECT_FALSE(n.is_kinematic(static_cast<std::size_t>(k)));
   ASSERT_FALSE(w.failed());
+}
+
+// Bite, lift the jaws 25 mm above the box (out of the removal region) and open them there;
+// then hold 1 s. Returns how many of the bitten particles still hang above the box's rim.
+std::size_t bite_left_on_open_jaws(bool shake_off) {
+  WorldConfig c = rongeur_box();
+  c.instrument.jaw_shake_off = shake_off;
+  World w(c);
+  const Nucleus& n = *w.nucleus();
+  const double z0 = 0.07, z1 = 0.0568, z2 = 0.075;
+  for (int i = 0; i < 300; ++i) w.step(grip_at(z0 + (z1 - z0) * (i + 1) / 300.0, 0.0));
+  for (int i = 0; i < 300; ++i) w.step(grip_at(z1, 1.0));
+  const std::vector<std::int32_t> held(w.held_particles().begin(), w.held_particles().end());
+  EXPECT_GT(held.size(), 10u);
+  for (int i = 0; i < 400; ++i) w.step(grip_at(z1 + (z2 - z1) * std::min(1.0, (i + 1) / 300.0), 1.0));
+  for (int i = 0; i < 1300; ++i) w.step(grip_at(z2, 0.0));
+  EXPECT_FALSE(w.failed());
+  std::size_t left = 0;
+  for (const std::int32_t i : held) left += n.positions()[static_cast<std::size_t>(i)].z() > 0.012;
+  return left;
+}
+
+TEST(WorldGrasp, OpenJawsOutsideTheDiscShedWhatLiesOnThem) {
+  // Without the shake the gel clings to the plates (a 300 Pa s film creeps off at some
+  // 30 um/s); shaken off, what lay between the jaws falls into the box below.
+  const std::size_t clinging = bite_left_on_open_jaws(false);
+  const std::size_t shaken = bite_left_on_open_jaws(true);
+  EXPECT_GT(clinging, 5u);
+  EXPECT_LT(shaken, clinging / 4) << clinging << " cling without the shake";
+}
+
+// The small box's blade and a rongeur on one tray.
+WorldConfig tray_box() {
+  WorldConfig c = small_box();
+  InstrumentConfig blade = c.instrument;
+  blade.name = "blade";
+  InstrumentConfig rongeur = rongeur_box().instrument;
+  rongeur.name = "rongeur";
+  c.instruments = {blade, rongeur};
+  return c;
+}
+
+DeviceSample asking(double z, int instrument, double grip = 0.0) {
+  DeviceSample s = grip_at(z, grip);
+  s.instrument = instrument;
+  return s;
+}
+
+TEST(WorldExchange, ATrayNeverExchangedStepsAsItsFirstInstrumentAlone) {
+  World alone(small_box()), tray(tray_box());
+  for (int i = 0; i < 600; ++i) {
+    const double z = std::max(0.07 - 2.5e-5 * i, 0.056);
+    alone.step(at(Vec3(0, 0, z)));
+    tray.step(asking(z, 0));
+  }
+  EXPECT_EQ(alone.state_hash(), tray.state_hash());
+  EXPECT_EQ(alone.last_frame().nucleus_force_N, tray.last_frame().nucleus_force_N);
+  EXPECT_EQ(tray.instrument_index(), 0);
+}
+
+TEST(WorldExchange, TheHandTakesTheOtherInstrumentOnlyOutsideTheDiscAndEmpty) {
+  World w(tray_box());
+  std::vector<Event> events;
+  // The blade down into the nucleus (its tip 1 mm deep in the gel), then the hand asks for the
+  // rongeur: no exchange inside the removal region.
+  for (int i = 0; i < 600; ++i) w.step(asking(std::max(0.07 - 3e-5 * i, 0.053), 0));
+  for (int i = 0; i < 100; ++i) w.step(asking(0.053, 1));
+  EXPECT_EQ(w.instrument_index(), 0);
+  EXPECT_FALSE(w.instrument()->config().has_jaws());
+  // Out again: the exchange happens once the blade has left the region (its top at 8 mm).
+  double z = 0.053;
+  Pose before = w.last_frame().instrument;
+  double jump = 0.0;
+  for (int i = 0; i < 700 && w.instrument_index() == 0; ++i) {
+    z = std::min(0.07, z + 3e-5);
+    before = w.last_frame().instrument;
+    w.step(asking(z, 1));
+    jump = (w.last_frame().instrument.position - before.position).norm();
+  }
+  ASSERT_EQ(w.instrument_index(), 1);
+  EXPECT_TRUE(w.instrument()->config().has_jaws());
+  EXPECT_LT(jump, 1e-4);  // the hand holds the new one where it held the old one
+  const Vec3 tip = w.last_frame().instrument.apply(Vec3(0, 0, -0.05));
+  EXPECT_GT(tip.z(), 0.008);  // above the region
+  w.drain_events(events);
+  std::vector<Event> exchanges;
+  for (const Event& e : events)
+    if (e.kind == EventKind::kInstrumentExchange) exchanges.push_back(e);
+  ASSERT_EQ(exchanges.size(), 1u);
+  EXPECT_EQ(exchanges[0].value, 1.0);
+  EXPECT_EQ(exchanges[0].detail, "rongeur");
+  EXPECT_STREQ(event_kind_name(EventKind::kInstrumentExchange), "instrument_exchange");
+  // The rongeur bites as a rongeur.
+  const double z1 = 0.0568;
+  for (int i = 0; i < 300; ++i) w.step(asking(0.07 + (z1 - 0.07) * (i + 1) / 300.0, 1));
+  for (int i = 0; i < 300; ++i) w.step(asking(z1, 1, 1.0));
+  ASSERT_FALSE(w.held_particles().empty());
+  // Out with the bite, asking for the blade: not while the jaws hold something.
+  for (int i = 0; i < 400; ++i) w.step(asking(std::min(0.075, z1 + 5e-5 * i), 0, 1.0));
+  EXPECT_EQ(w.instrument_index(), 1);
+  // Opened, they let go; then the blade comes back.
+  for (int i = 0; i < 300; ++i) w.step(asking(0.075, 0, 0.0));
+  EXPECT_TRUE(w.held_particles().empty());
+  EXPECT_EQ(w.instrument_index(), 0);
+  EXPECT_FALSE(w.instrument()->config().has_jaws());
+  for (int i = 0; i < 300; ++i) w.step(asking(0.07, 2));  // 2 modulo the tray's 2: the blade
+  EXPECT_EQ(w.instrument_index(), 0);
+  EXPECT_FALSE(w.failed());
 }
 
 TEST(WorldGrasp, OtherInstrumentsIgnoreTheGrip) {
