@@ -14,16 +14,10 @@
 #include "app/attempt_session.hpp"
 #include "scenarios/content_hash.hpp"
 #include "tests/db/db_test_support.hpp"
+#include "tests/scenarios/scenario_test_support.hpp"
 
 namespace acdr {
 namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 /// The trajectory's comments, header and samples up to `until_s`, line for line (the lines
 /// scripts/demonstrations keeps for the check).
@@ -42,11 +36,9 @@ class DemonstrationPhysics : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(DemonstrationPhysics, TheFirstSecondsOfExpertOneReachTheStoredState) {
   const std::string module = GetParam();
-  const std::string dir = std::string(ACDR_SOURCE_DIR) + "/content/demonstrations/" + module;
-  const std::string check_text = read_text(dir + "/physics_check.json");
-  ASSERT_FALSE(check_text.empty()) << dir << "/physics_check.json is missing (run scripts/demonstrations)";
-  const nlohmann::json check = nlohmann::json::parse(check_text);
-  const std::string trajectory = read_text(dir + "/" + check["trajectory"].get<std::string>());
+  const std::string dir = test::source_path("content/demonstrations/" + module);
+  const nlohmann::json check = nlohmann::json::parse(test::read_text(dir + "/physics_check.json"));
+  const std::string trajectory = test::read_text(dir + "/" + check["trajectory"].get<std::string>());
   ASSERT_EQ(check["trajectory_fnv1a64"].get<std::string>(), fnv1a64_hex(trajectory))
       << module << ": the check is of another " << check["trajectory"]
       << " (run scripts/demonstrations)";
@@ -56,7 +48,7 @@ TEST_P(DemonstrationPhysics, TheFirstSecondsOfExpertOneReachTheStoredState) {
   const std::string part = tmp.file("first_seconds.csv");
   std::ofstream(part, std::ios::binary) << first_seconds(trajectory, until_s);
   SessionOptions o;
-  o.scenario = std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/" + module + ".json";
+  o.scenario = test::source_path("scenarios/modules/" + module + ".json");
   o.input = "replay:" + part;
   o.db = tmp.file("record.sqlite");
   o.checkpoint_every_s = 0.0;
