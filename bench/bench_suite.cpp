@@ -179,7 +179,8 @@ std::string describe_machine() {
   std::ifstream loadavg("/proc/loadavg");
   std::getline(loadavg, load);
   std::ostringstream out;
-  out << model << ", " << cpus << " logical CPUs, load average " << load.substr(0, 14);
+  out << model << ", " << cpus << " logical CPUs, SIMD path " << ACDR_SIMD_PATH
+      << ", load average " << load.substr(0, 14);
   return out.str();
 }
 

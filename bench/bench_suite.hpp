@@ -154,7 +154,7 @@ struct BenchReport {
   std::string scaling_scene;
   std::vector<SkipResult> skips;
   std::string skips_scene;
-  std::string machine;             ///< CPU model, cores, load average at start and end
+  std::string machine;             ///< CPU model, cores, SIMD path, load average at start and end
   double wall_s = 0.0;             ///< the whole benchmark
   bool quick = false;
   /// The bone's solves per load update, for each scene that models the bone (its
@@ -170,7 +170,8 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
 /// Fits cost = c * n^e by least squares on (log n, log cost).
 PowerFit fit_power(const std::vector<double>& n, const std::vector<double>& cost);
 
-/// One line describing the machine: CPU model, logical CPUs, load average.
+/// One line describing the machine: CPU model, logical CPUs, the SIMD path this program was
+/// compiled for (cmake/simd.cmake), load average.
 std::string describe_machine();
 
 }  // namespace acdr

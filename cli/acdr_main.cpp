@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
   CLI::App app{"ACDR Trainer: scooping simulation and assessment for artificial cervical disc "
                "replacement"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", ACDR_VERSION_STRING);
+  app.set_version_flag("--version", ACDR_VERSION_STRING " (SIMD path " ACDR_SIMD_PATH ")");
   int code = 0;
 
   // acdr run

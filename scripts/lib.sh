@@ -60,4 +60,5 @@ acdr_build() {
   cmake -S "$ACDR_ROOT" -B "$ACDR_BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
   echo "==> building"
   cmake --build "$ACDR_BUILD" -j"$(nproc)"
+  echo "==> built acdr $("$ACDR_BUILD/acdr" --version)"
 }
