@@ -539,6 +539,10 @@ void read_rongeur_jaws(ObjectReader& r, InstrumentConfig& in) {
                         "deg")) {
     in.jaw_opening_rad = *v * M_PI / 180.0;
   }
+  // Angled (up-biting) jaws: bent off the shaft in their opening plane; 0 straight.
+  if (auto v = r.number("jaw_angle_deg", Need::kOptional, Range::closed(0.0, 90.0), "deg")) {
+    in.jaw_angle_rad = *v * M_PI / 180.0;
+  }
   if (auto v = r.number("jaw_close_time_s", Need::kOptional, Range::closed(0.01, 5.0), "s")) {
     in.jaw_close_time_s = *v;
   }

@@ -26,9 +26,11 @@ For another curette, give its geometry (the scenario's instrument keys, mm):
 
     python3 c4c5_waypoints.py --cup 4 --wall 0.4 --shaft 80 rows.cup.csv
 
-For a rongeur the rows place the middle of its jaws (the instrument's working point):
+For a rongeur the rows place the middle of its jaws (the instrument's working point; angled
+jaws put it off the shaft's axis):
 
     python3 c4c5_waypoints.py --jaw-length 6 --shaft 80 rows.bite.csv
+    python3 c4c5_waypoints.py --jaw-length 6 --jaw-angle 30 --shaft 80 rows.bite.csv
 """
 import argparse
 import math
@@ -45,9 +47,14 @@ def rotation(roll, pitch, yaw):
     return mul(rz, mul(ry, rx))
 
 
-def grip_row(t, cup, rpy, length, jaw=None):
+def grip_row(t, cup, rpy, length, jaw=None, lateral=0.0):
+    """The waypoint of a row: the grip placed so that the instrument's point (lateral, 0,
+    -length) in its own frame (the cup centre, or the middle of a rongeur's jaws, bent off
+    the shaft by `lateral` when they are angled) is at `cup`."""
     rot = rotation(*rpy)
     grip = [cup[i] + length * rot[i][2] for i in range(3)]  # cup - R (0, 0, -L)
+    if lateral:
+        grip = [grip[i] - lateral * rot[i][0] for i in range(3)]  # and - R (lateral, 0, 0)
     row = "%.3f,%.3f,%.3f,%.3f,%.2f,%.2f,%.2f" % (t, grip[0], grip[1], grip[2], *rpy)
     return row if jaw is None else row + ",%.3f" % jaw
 
@@ -57,14 +64,24 @@ def cup_to_grip(shaft_mm, cup_mm, wall_mm):
     return shaft_mm + 0.5 * cup_mm + wall_mm
 
 
-def rongeur_to_grip(shaft_mm, jaw_length_mm):
+def rongeur_to_grip(shaft_mm, jaw_length_mm, jaw_angle_deg=0.0):
     """engine/rigid/instrument.cpp: the middle of the jaws lies shaft + jaw length / 2 below
-    the grip."""
-    return shaft_mm + 0.5 * jaw_length_mm
+    the grip; jaws angled by jaw_angle_deg (toward the instrument's +x) put it
+    (jaw length / 2) (sin a, 0, -cos a) from the shaft's tip. Returns how far below the grip
+    (mm) -- with the second value of rongeur_offset, how far to the side."""
+    if not jaw_angle_deg:
+        return shaft_mm + 0.5 * jaw_length_mm
+    return shaft_mm + 0.5 * jaw_length_mm * math.cos(math.radians(jaw_angle_deg))
 
 
-def waypoint_lines(lines, length=L_MM):
-    """The waypoint CSV lines for cup-centre row lines (comments copied)."""
+def rongeur_offset(jaw_length_mm, jaw_angle_deg=0.0):
+    """How far to the instrument's +x the middle of angled jaws lies off the shaft's axis (mm)."""
+    return 0.5 * jaw_length_mm * math.sin(math.radians(jaw_angle_deg)) if jaw_angle_deg else 0.0
+
+
+def waypoint_lines(lines, length=L_MM, lateral=0.0):
+    """The waypoint CSV lines for cup-centre row lines (comments copied); `lateral`: the
+    working point's offset to the instrument's +x (angled rongeur jaws, rongeur_offset)."""
     rows, out = [], ["t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg"]
     with_grip = None
     for line in lines:
@@ -96,9 +113,9 @@ def waypoint_lines(lines, length=L_MM):
                 cup = [c0 + f * (c1 - c0) for c0, c1 in zip(cup0, (x, y, z))]
                 rpy = [a0 + f * (a1 - a0) for a0, a1 in zip(rpy0, (ro, pi, ya))]
                 out.append(grip_row(t0 + f * (t - t0), cup, rpy, length,
-                                    None if jaw is None else jaw0 + f * (jaw - jaw0)))
+                                    None if jaw is None else jaw0 + f * (jaw - jaw0), lateral))
         rows.append((t, (x, y, z), (ro, pi, ya), jaw))
-        out.append(grip_row(t, (x, y, z), (ro, pi, ya), length, jaw))
+        out.append(grip_row(t, (x, y, z), (ro, pi, ya), length, jaw, lateral))
     return out
 
 
@@ -110,8 +127,11 @@ if __name__ == "__main__":
     ap.add_argument("--shaft", type=float, default=80.0, help="shaft_length_mm (default 80)")
     ap.add_argument("--jaw-length", type=float, help="a rongeur's jaw_length_mm: the rows place "
                     "the middle of its jaws")
+    ap.add_argument("--jaw-angle", type=float, default=0.0, help="a rongeur's jaw_angle_deg "
+                    "(angled jaws; default 0)")
     args = ap.parse_args()
-    length = (rongeur_to_grip(args.shaft, args.jaw_length) if args.jaw_length
+    length = (rongeur_to_grip(args.shaft, args.jaw_length, args.jaw_angle) if args.jaw_length
               else cup_to_grip(args.shaft, args.cup, args.wall))
+    lateral = rongeur_offset(args.jaw_length, args.jaw_angle) if args.jaw_length else 0.0
     with open(args.rows) as f:
-        print("\n".join(waypoint_lines(f, length)))
+        print("\n".join(waypoint_lines(f, length, lateral)))

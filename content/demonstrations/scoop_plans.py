@@ -41,6 +41,11 @@ places every pass again on the new anatomy.
         --write-dir DIR                                   # rongeur bites, on a module copy
                                                           # whose instrument is "rongeur"
                                                           # (docs/anatomy.md)
+    python3 scoop_plans.py COPY.json wall --moves 'A:0.52:0.1:-0.314:-25' --pace 0.45 \
+        --write-dir DIR                                   # angled bites: the jaws opened above
+                                                          # the window and plunged open, on a
+                                                          # copy whose rongeur may have angled
+                                                          # jaws (jaw_angle_deg; docs/anatomy.md)
 """
 import argparse
 import json
@@ -92,7 +97,8 @@ def module_geometry(module):
         # engine/rigid/instrument_config.hpp defaults
         jaw = {"length": inst.get("jaw_length_mm", 6.0), "width": inst.get("jaw_width_mm", 3.0),
                "depth": inst.get("jaw_depth_mm", 1.0), "wall": inst.get("jaw_wall_mm", 0.4),
-               "opening_deg": inst.get("jaw_opening_angle_deg", 50.0)}
+               "opening_deg": inst.get("jaw_opening_angle_deg", 50.0),
+               "angle_deg": inst.get("jaw_angle_deg", 0.0)}
     return {
         "jaw": jaw,
         "nucleus_cx": nucleus["center_mm"][0], "nucleus_cz": nucleus["center_mm"][2],
@@ -106,9 +112,15 @@ def module_geometry(module):
         "tray_cy": 0.5 * (box["inner_min_mm"][1] + box["inner_max_mm"][1]),
         "tray_far_y": box["inner_max_mm"][1], "tray_floor": box["inner_min_mm"][2],
         "angled": inst.get("cup_opening_angle_deg", 90) > 90,
-        "grip_mm": (c4c5_waypoints.rongeur_to_grip(inst["shaft_length_mm"], jaw["length"]) if jaw
+        "grip_mm": (c4c5_waypoints.rongeur_to_grip(inst["shaft_length_mm"], jaw["length"],
+                                                   jaw["angle_deg"]) if jaw
                     else c4c5_waypoints.cup_to_grip(inst["shaft_length_mm"],
                                                     inst["cup_diameter_mm"], inst["cup_wall_mm"])),
+        # angled jaws: their middle off the shaft's axis, toward the instrument's +x
+        "grip_lateral_mm": (c4c5_waypoints.rongeur_offset(jaw["length"], jaw["angle_deg"]) if jaw
+                            else 0.0),
+        "shaft_length_mm": inst["shaft_length_mm"],
+        "shaft_r": 0.5 * inst.get("shaft_diameter_mm", 2.0),
         "time_limit_s": module.get("time_limit_s", 0),
         "nucleus_viscosity_Pa_s": materials[nucleus["material"]].get("viscosity_Pa_s", 300.0),
         # The virtual coupling (engine/rigid/instrument_config.hpp defaults): what a hand's push
@@ -224,12 +236,33 @@ def R(what, u, y, v, opening=1.0):
     return ("bite", what, u, y, v, opening)
 
 
+# An angled bite, with a rongeur whose jaws are bent off its shaft (jaw_angle_deg): the jaws
+# opened above the window, then in along the shaft with them open, so a plate slides down
+# between the gel and the annulus instead of pushing the gel ahead of closed jaws; closed
+# there, drawn out along the shaft and opened over the tray. The jaws' middle (closed) at u, v
+# (nucleus units) and y (mm); axis: the jaws' axis in the disc, deg from the shaft's straight
+# line into it (-z), + toward +x. The instrument is rolled so its bend leans the jaws the way
+# the axis does (yaw 0 for +x, 180 for -x) and the shaft leans what the bend leaves; opening:
+# the fraction of the full opening. A shaft that would not pass the window is refused.
+def A(what, u, y, v, axis, opening=1.0):
+    return ("angled_bite", what, u, y, v, axis, opening)
+
+
 JAW_LATERAL_REACH_MM = 0.5   # the open jaws' tips past the nucleus's edge, at most
 TIP_CLEARANCE_MM = 0.3       # the jaws' tips in front of the posterior edge of the nucleus
 BITE_S = (0.8, 1.0, 0.3, 0.15, 0.35, 0.1, 1.0, 0.5)   # window, plunge, open, wait, close,
                                                       # wait, withdraw, up
 RELEASE_S = (1.0, 0.5, 0.3, 0.3, 0.5, 0.3)            # tray, down, open, wait, up, close
 RELEASE_TIP_MM = 0.5         # the jaws' tips above the tray's floor when they open there
+ANGLED_BACK_SPAN = 0.9       # the angled bites' tips kept off the posterior annulus this far out
+# How far in front of the nucleus's posterior edge the open tips of an angled bite stay there:
+# negative lets them past it, into the posterior annulus. The open plates slice into it edge
+# on; measured on module 02 (docs/anatomy.md), tips 0.3 mm in front removed 3 points less
+# (76.2 % against 79.3 %) with as much annulus out of the region (105 against 108 mm3).
+ANGLED_TIP_CLEARANCE_MM = -1.0
+# An angled bite's load hangs further below the tips: held particles pressed into the floor
+# overloaded the shaft when the jaws let them go with the tips 0.5 mm above it (docs/anatomy.md).
+ANGLED_RELEASE_TIP_MM = 3.0
 
 
 # The front band (v 0.55, rows 2-4 mm in front of the centre), the middle (v 0), the back
@@ -420,7 +453,7 @@ def parse_moves(text):
     """Moves written on the command line (--moves), comma-separated: the names of this file's
     scoops (F1, M2, L1, ...), REFERENCE for the reference plan's fourteen, S:u0:u1:y:v for a
     scoop, P:u:y:v[:pitch] for a pull and R:u:y:v[:opening] for a rongeur's bite (the arguments
-    of S, P and R)."""
+    of S, P and R) and A:u:y:v:axis[:opening] for an angled rongeur's bite."""
     named = {k: v for k, v in globals().items()
              if isinstance(v, tuple) and v and v[0] == "scoop"}
     moves = []
@@ -431,19 +464,20 @@ def parse_moves(text):
             moves.extend(REFERENCE)
         elif item in named:
             moves.append(named[item])
-        elif item[:2] in ("S:", "P:", "R:"):
+        elif item[:2] in ("S:", "P:", "R:", "A:"):
             try:
                 args = [float(a) for a in item[2:].split(":")]
             except ValueError:
                 args = []
-            count = {"S": (4,), "P": (3, 4), "R": (3, 4)}[item[0]]
+            count = {"S": (4,), "P": (3, 4), "R": (3, 4), "A": (4, 5)}[item[0]]
             if len(args) not in count:
                 raise ValueError("--moves: '%s': expected %s numbers after '%s:'"
                                  % (item, " or ".join(map(str, count)), item[0]))
-            moves.append({"S": S, "P": P, "R": R}[item[0]](item, *args))
+            moves.append({"S": S, "P": P, "R": R, "A": A}[item[0]](item, *args))
         else:
             raise ValueError("--moves: '%s': expected a scoop's name (%s), REFERENCE, S:u0:u1:y:v, "
-                             "P:u:y:v[:pitch] or R:u:y:v[:opening] (a rongeur's bite)"
+                             "P:u:y:v[:pitch], R:u:y:v[:opening] (a rongeur's bite) or "
+                             "A:u:y:v:axis[:opening] (an angled rongeur's bite)"
                              % (item, ", ".join(sorted(named))))
     return moves
 
@@ -512,8 +546,8 @@ def cup_rows(plan, g):
                     "sweep, clear of the posterior annulus")
             row(b[3], (x1, y, out_of_disc), (0, 0, yaw), "straight withdrawal")
             row(b[4], (x1, 0.0, clear), (0, 0, yaw), "")
-        elif m[0] == "bite":
-            bite_rows(m, g, p, row, out, n, pace)
+        elif m[0] in ("bite", "angled_bite"):
+            (bite_rows if m[0] == "bite" else angled_bite_rows)(m, g, p, row, out, n, pace)
             last = (p.lateral(0.0, 0.0), 0.0, clear)
             continue
         elif m[0] == "pull":
@@ -631,7 +665,6 @@ def bite_rows(m, g, p, row, out, n, pace):
         o -= 0.05
     open_grip = round(1.0 - o, 2)
     b = [d * pace for d in BITE_S]
-    w = [d * pace for d in RELEASE_S]
     rpy = (0, round(pitch, 2), 0)
     tip_window = (x - (z_window + 4.0 - z_tip) * axis[0], y, z_window + 4.0)
     out.append("# bite %d: %s (jaws opened to closure %.2f%s)"
@@ -647,17 +680,109 @@ def bite_rows(m, g, p, row, out, n, pace):
     row(b[6], middle(tip_out), rpy + (1.0,), "straight out, jaws closed on the bite")
     clear = p.above(12.0)
     row(b[7], (tip_out[0], 0.0, clear + half_len), (0, 0, 0, 1.0), "")
-    # over the tray: the tips just above its floor (what hangs from them touches it), open,
-    # wait, up, close; each bite in a lane of its own across the tray
+    release_rows(g, p, row, n, pace, half_len)
+
+
+def release_rows(g, p, row, n, pace, half_len, tip_mm=RELEASE_TIP_MM):
+    """Over the tray: the tips tip_mm above its floor (what hangs from them touches it), open,
+    wait, up, close; each bite in a lane of its own across the tray."""
+    w = [d * pace for d in RELEASE_S]
     lane = ((n * 3) % 19) - 9.0
     tray_hi = p.tray(lane, 0.0, 14.0 + half_len)
-    tray_lo = p.tray(lane, 0.0, RELEASE_TIP_MM + half_len)
+    tray_lo = p.tray(lane, 0.0, tip_mm + half_len)
     row(w[0], tray_hi, (0, 0, 0, 1.0), "over the tray")
     row(w[1], tray_lo, (0, 0, 0, 1.0), "down")
     row(w[2], tray_lo, (0, 0, 0, 0.0), "open: the bite drops")
     row(w[3], tray_lo, (0, 0, 0, 0.0), "")
     row(w[4], tray_hi, (0, 0, 0, 0.0), "up, jaws open")
     row(w[5], tray_hi, (0, 0, 0, 1.0), "close")
+
+
+def angled_bite_rows(m, g, p, row, out, n, pace):
+    """The rows of one angled bite (A) and its release over the tray: the jaws' middle, the
+    stylus's roll, pitch and yaw, and the grip (0 open .. 1 closed)."""
+    _, what, u, y, v, axis_deg, opening = m
+    jw = g["jaw"]
+    if jw is None:
+        raise ValueError("--moves: '%s': an angled bite needs a rongeur (the module's instrument "
+                         "is not one)" % what)
+    half_len = 0.5 * jw["length"]
+    y_max = 0.5 * g["disc_height"] - ENDPLATE_WARNING_MM - 0.5 * jw["width"] - 0.15
+    y = max(-y_max, min(y_max, y))
+    # The roll that leans the bend the axis's way, and the shaft's lean (deg from -z toward +x)
+    # the bend leaves: yaw 0 turns the instrument's +x to the segment's +x, yaw 180 to -x, and
+    # with yaw 180 a pitch leans the shaft's tip the other way (c4c5_waypoints.rotation).
+    side = 1.0 if axis_deg >= 0 else -1.0
+    lean = axis_deg - side * jw["angle_deg"]
+    yaw = 0 if side > 0 else 180
+    rpy = (0, round(-lean if side > 0 else lean, 2), yaw)
+    phi, psi = math.radians(axis_deg), math.radians(lean)
+    axis = (math.sin(phi), -math.cos(phi))      # (x, z) along the jaws into the disc
+    shaft = (-math.sin(psi), math.cos(psi))     # (x, z) up the shaft, toward the grip
+    mid = [g["nucleus_cx"] + u * g["nucleus_a"], g["nucleus_cz"] + v * g["nucleus_b"]]
+    o = max(0.0, min(1.0, opening))
+    a_open = 0.5 * math.radians(jw["opening_deg"]) * o
+    # The open jaws' tips (the middle of each plate's end) stay ANGLED_TIP_CLEARANCE_MM in front of
+    # the nucleus's posterior edge where they are over its back (within 0.9 of its half-width
+    # of the middle), and out of the cord zone's band: the middle is drawn back along the shaft
+    # until they do. The posterior annulus has the canal behind it and 0.35 mm to the removal
+    # region's back (Placement.floor); a tip further out bears on the lateral annulus, which
+    # has the ring's width to give (angled bites along the side, measured on module 02).
+    half_thick = jw["depth"] + 0.5 * jw["wall"]
+    for _ in range(2):
+        hinge = (mid[0] - half_len * axis[0], mid[1] - half_len * axis[1])
+        deficit = 0.0
+        for k in (-1, 1):
+            t = phi + k * a_open
+            tip = (hinge[0] + jw["length"] * math.sin(t) + k * half_thick * math.cos(t),
+                   hinge[1] - jw["length"] * math.cos(t) + k * half_thick * math.sin(t))
+            s_ = (tip[0] - g["nucleus_cx"]) / g["nucleus_a"]
+            floor = g["body_back_z"] + CORD_WARNING_MM + CORD_MARGIN_MM
+            if abs(s_) < ANGLED_BACK_SPAN:
+                floor = max(floor, g["nucleus_cz"] - g["nucleus_b"] * math.sqrt(1.0 - s_ * s_)
+                            + ANGLED_TIP_CLEARANCE_MM)
+            deficit = max(deficit, floor - tip[1])
+        if deficit <= 0.0:
+            break
+        mid = [mid[0] + deficit / shaft[1] * shaft[0], mid[1] + deficit]
+    hinge = (mid[0] - half_len * axis[0], mid[1] - half_len * axis[1])
+    # The shaft passes the window (the bodies' front) with 0.1 mm to spare.
+    z_window = g["body_front_z"]
+    x_window = hinge[0] + (z_window - hinge[1]) / shaft[1] * shaft[0]
+    limit = g["window_half"] - g["shaft_r"] - 0.1
+    if abs(x_window - g["nucleus_cx"]) > limit:
+        raise ValueError("--moves: '%s': the shaft would cross the window at x = %.2f mm, beyond "
+                         "the %.2f mm it passes (lean %.1f deg); move the bite or its axis"
+                         % (what, x_window, limit, lean))
+    # Opened, the jaws' lowest tip below their middle; the middle drawn back along the shaft
+    # until that tip is 4 mm above the window (before the plunge) or the closed tips 6 mm
+    # above it (after the bite).
+    low_open = min(hinge[1] - jw["length"] * math.cos(phi + k * a_open) for k in (-1, 1)) - mid[1]
+    low_closed = hinge[1] - jw["length"] * math.cos(phi) - mid[1]
+
+    def drawn_back(low, above):
+        d = (z_window + above - low - mid[1]) / shaft[1]
+        return (mid[0] + d * shaft[0], y, mid[1] + d * shaft[1])
+
+    open_grip = round(1.0 - o, 2)
+    b = [d * pace for d in BITE_S]
+    out.append("# angled bite %d: %s (jaws' axis %.1f deg, shaft leaning %.1f deg, yaw %d, "
+               "jaws opened to closure %.2f)" % (n, what, axis_deg, lean, yaw, open_grip))
+    above = drawn_back(low_open, 4.0)
+    target = (mid[0], y, mid[1])
+    row(b[0], above, rpy + (1.0,), "over the window, jaws closed")
+    row(b[2], above, rpy + (open_grip,), "open the jaws above the window")
+    row(b[1], target, rpy + (open_grip,), "in along the shaft, the jaws open")
+    row(b[3], target, rpy + (open_grip,), "")
+    row(b[4], target, rpy + (1.0,), "bite: close the jaws")
+    row(b[5], target, rpy + (1.0,), "")
+    out_of_disc = drawn_back(low_closed, 6.0)
+    row(b[6], out_of_disc, rpy + (1.0,), "out along the shaft, jaws closed on the bite")
+    clear = p.above(12.0)
+    row(b[7], (out_of_disc[0], 0.0, clear + half_len), (0, 0, 0, 1.0), "")
+    # upright over the tray, the angled jaws' tips lie L/2 cos(bend) below their middle
+    release_rows(g, p, row, n, pace, half_len * math.cos(math.radians(jw["angle_deg"])),
+                 ANGLED_RELEASE_TIP_MM)
 
 
 def header(name, description, g, module_path):
@@ -697,18 +822,27 @@ def main():
         return 0
     if args.write_dir:
         for name, plan in plans.items():
-            description, rows = cup_rows(plan, g)
+            try:
+                description, rows = cup_rows(plan, g)
+            except ValueError as e:  # a move the anatomy does not allow (an angled bite's shaft)
+                sys.stderr.write("%s\n" % e)
+                return 2
             lines = header(name, description, g, args.module) + rows
             with open(os.path.join(args.write_dir, name + ".cup.csv"), "w") as f:
                 f.write("\n".join(lines) + "\n")
             with open(os.path.join(args.write_dir, name + ".waypoints.csv"), "w") as f:
-                f.write("\n".join(c4c5_waypoints.waypoint_lines(lines, g["grip_mm"])) + "\n")
+                f.write("\n".join(c4c5_waypoints.waypoint_lines(lines, g["grip_mm"],
+                                                                 g["grip_lateral_mm"])) + "\n")
         return 0
     if args.plan not in plans:
         sys.stderr.write("%s: no plan '%s' (expected one of %s)\n"
                          % (args.module, args.plan, ", ".join(plans)))
         return 2
-    description, rows = cup_rows(plans[args.plan], g)
+    try:
+        description, rows = cup_rows(plans[args.plan], g)
+    except ValueError as e:
+        sys.stderr.write("%s\n" % e)
+        return 2
     print("\n".join(header(args.plan, description, g, args.module) + rows))
     return 0
 

@@ -35,7 +35,10 @@ InstrumentGeometry::InstrumentGeometry(const InstrumentConfig& config) : config_
       local_colliders_.push_back(jaw);
     }
     local_colliders_.push_back(shaft);
-    working_point_ = hinge() - Vec3(0, 0, 0.5 * config.jaw_length_m);
+    // The middle of the jaws along their axis, bent off the shaft's by jaw_angle.
+    working_point_ = hinge() + 0.5 * config.jaw_length_m *
+                                   Vec3(std::sin(config.jaw_angle_rad), 0.0,
+                                        -std::cos(config.jaw_angle_rad));
   } else if (config.shape == InstrumentShape::kPrism) {
     // Blade hangs below the tip: its upper face at the tip, centred on the shaft axis.
     head.kind = ColliderKind::kBox;
@@ -94,13 +97,14 @@ void InstrumentGeometry::world_colliders(const Pose& grip, const Vec3& v_grip, c
 }
 
 // Jaw k (sign s = +1 for the jaw on the +x side, -1 for the other) turns about body y at the
-// hinge by s * a, a = half the opening times (1 - closure); a turn of -a about y takes the
-// jaw's direction (0, 0, -1) to (sin a, 0, -cos a), so the +x jaw opens toward +x. Its plate's
-// inner face stands at s * depth in the jaw's own frame.
+// hinge by b + s * a, b the jaws' bend (jaw_angle) and a half the opening times (1 - closure);
+// a turn of -a about y takes the jaw's direction (0, 0, -1) to (sin a, 0, -cos a), so the +x
+// jaw opens toward +x and a positive bend leans both toward +x. Its plate's inner face stands
+// at s * depth in the jaw's own frame. Straight jaws (b = 0) turn by s * a alone.
 Pose InstrumentGeometry::jaw_pose(int k, double closure) const {
   const double s = k == 0 ? 1.0 : -1.0;
   const double a = 0.5 * config_.jaw_opening_rad * (1.0 - std::clamp(closure, 0.0, 1.0));
-  const Quat turn(Eigen::AngleAxisd(-s * a, Vec3::UnitY()));
+  const Quat turn(Eigen::AngleAxisd(-s * a - config_.jaw_angle_rad, Vec3::UnitY()));
   const Vec3 centre(s * (config_.jaw_depth_m + 0.5 * config_.jaw_wall_m), 0.0,
                     -0.5 * config_.jaw_length_m);
   return Pose{hinge() + turn * centre, turn};

@@ -42,6 +42,11 @@ struct InstrumentConfig {
   double jaw_depth_m = 1.0e-3;     ///< each jaw's cup depth: axis to its inner face, closed
   double jaw_wall_m = 0.4e-3;      ///< jaw plate thickness
   double jaw_opening_rad = 50.0 * std::numbers::pi / 180.0;  ///< angle between open jaws
+  /// Angled jaws: the jaws' axis (the line their closed faces meet on) bent at the hinge off
+  /// the shaft's axis toward body +x, in the plane they open in, rad; 0 straight. Up-angled
+  /// ("up-biting") pituitary rongeurs are bent 15-45 deg (docs/anatomy.md); turning the shaft
+  /// about its axis turns the bend with it.
+  double jaw_angle_rad = 0.0;
   double jaw_close_time_s = 0.2;   ///< fastest full closing or opening by the hand
   /// Closure at and above which the jaws hold what is between them, and at and below which
   /// they let it go (the gap between the two keeps a grip from flickering).

@@ -152,6 +152,7 @@ TEST(ScenarioLoader, OtherUnitSpellingsAndOptionsConvert) {
   EXPECT_NEAR(w.instrument.jaw_depth_m, 0.0008, kTol);
   EXPECT_NEAR(w.instrument.jaw_wall_m, 0.0003, kTol);
   EXPECT_NEAR(w.instrument.jaw_opening_rad, 40.0 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(w.instrument.jaw_angle_rad, 30.0 * M_PI / 180.0, 1e-12);
   EXPECT_NEAR(w.instrument.jaw_close_time_s, 0.3, 1e-12);
   EXPECT_FALSE(w.instrument.jaw_shake_off);
   // 30 degrees about +y.
@@ -227,6 +228,7 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   EXPECT_NE(in.jaw_depth_m, id.jaw_depth_m);
   EXPECT_NE(in.jaw_wall_m, id.jaw_wall_m);
   EXPECT_NE(in.jaw_opening_rad, id.jaw_opening_rad);
+  EXPECT_NE(in.jaw_angle_rad, id.jaw_angle_rad);
   EXPECT_NE(in.jaw_close_time_s, id.jaw_close_time_s);
   EXPECT_NE(in.jaw_shake_off, id.jaw_shake_off);
   const CouplingConfig& cd = d.world.coupling;
@@ -496,6 +498,7 @@ TEST(ScenarioLoader, RongeurShapeAndJaws) {
   EXPECT_NEAR(in.jaw_width_m, 0.0025, kTol);
   EXPECT_NEAR(in.jaw_depth_m, 0.0009, kTol);
   EXPECT_NEAR(in.jaw_opening_rad, 45.0 * M_PI / 180.0, 1e-12);
+  EXPECT_EQ(in.jaw_angle_rad, 0.0);  // straight unless the scene bends them
 }
 
 TEST(ScenarioLoader, ATrayOfInstrumentsWithTheFirstInHand) {
@@ -563,7 +566,7 @@ TEST(ScenarioLoaderErrors, RongeurJawsOutOfShapeOrRange) {
   std::string text = box_module_text();
   text = replace_once(text, "\"shape\": \"prism\"",
                       "\"shape\": \"rongeur\", \"jaw_length_mm\": 2,\n"
-                      "\"jaw_depth_mm\": 1.8,\n\"jaw_opening_angle_deg\": 150");
+                      "\"jaw_depth_mm\": 1.8,\n\"jaw_opening_angle_deg\": 150,\n\"jaw_angle_deg\": -15");
   const auto errors = errors_of(text);
   const ScenarioError* deep = find_error(errors, "/world/instrument/jaw_depth_mm");
   ASSERT_NE(deep, nullptr);
@@ -573,6 +576,11 @@ TEST(ScenarioLoaderErrors, RongeurJawsOutOfShapeOrRange) {
   const ScenarioError* wide = find_error(errors, "/world/instrument/jaw_opening_angle_deg");
   ASSERT_NE(wide, nullptr);
   EXPECT_EQ(wide->message, "out of range (got 150 deg, expected >= 5 deg and <= 120 deg)");
+  // The bend leans toward body +x; the other way is the instrument rolled about its shaft.
+  const ScenarioError* bent = find_error(errors, "/world/instrument/jaw_angle_deg");
+  ASSERT_NE(bent, nullptr);
+  EXPECT_EQ(bent->line, line_of(text, "jaw_angle_deg"));
+  EXPECT_EQ(bent->message, "out of range (got -15 deg, expected >= 0 deg and <= 90 deg)");
   // An unknown shape names the three.
   const auto shape = errors_of(replace_once(box_module_text(), "\"shape\": \"prism\"",
                                             "\"shape\": \"forceps\""));

@@ -111,5 +111,61 @@ TEST(Instrument, RongeurJawsCloseAboutTheHingeAndEncloseTheBite) {
   EXPECT_FALSE(InstrumentGeometry(cup).between_jaws(Vec3(0, 0, -0.082), 1.0));
 }
 
+TEST(Instrument, AngledJawsLieOnTheirBentAxis) {
+  InstrumentConfig c;
+  c.shape = InstrumentShape::kRongeur;
+  c.shaft_length_m = 0.08;
+  c.jaw_length_m = 6e-3;
+  c.jaw_width_m = 3e-3;
+  c.jaw_depth_m = 1e-3;
+  c.jaw_wall_m = 0.4e-3;
+  c.jaw_opening_rad = 50.0 * std::numbers::pi / 180.0;
+  const InstrumentGeometry straight(c);
+  const double b = 30.0 * std::numbers::pi / 180.0;
+  c.jaw_angle_rad = b;
+  const InstrumentGeometry bent(c);
+  const Vec3 axis(std::sin(b), 0.0, -std::cos(b));  // the jaws' axis, from the hinge
+  const Vec3 side(std::cos(b), 0.0, std::sin(b));   // across it, toward the +x jaw
+  // The working point: 3 mm down the bent axis from the hinge at the shaft's tip.
+  EXPECT_NEAR((bent.working_point() - (bent.hinge() + 3e-3 * axis)).norm(), 0.0, 1e-15);
+  // Closed, each plate's centre stands depth + wall / 2 off the bent axis, half a jaw down it,
+  // and the colliders the particles meet are there too.
+  std::vector<Collider> world;
+  bent.world_colliders(Pose{}, Vec3::Zero(), Vec3::Zero(), world, 1.0, 0.0);
+  ASSERT_EQ(world.size(), 3u);
+  for (int k = 0; k < 2; ++k) {
+    const double s = k == 0 ? 1.0 : -1.0;
+    const Vec3 expected = bent.hinge() + 3e-3 * axis + s * 1.2e-3 * side;
+    EXPECT_NEAR((bent.jaw_pose(k, 1.0).position - expected).norm(), 0.0, 1e-15) << k;
+    EXPECT_NEAR((world[k].pose.position - expected).norm(), 0.0, 1e-15) << k;
+    // The plate's long side along the bent axis.
+    EXPECT_NEAR((world[k].pose.orientation * Vec3::UnitZ() - (-axis)).norm(), 0.0, 1e-12) << k;
+  }
+  // The bite lies along the bent axis: inside near its end, outside where straight jaws
+  // would hold it.
+  EXPECT_TRUE(bent.between_jaws(bent.hinge() + 5.5e-3 * axis + 0.9e-3 * side, 1.0));
+  EXPECT_FALSE(bent.between_jaws(bent.hinge() + Vec3(0, 0, -5.5e-3), 1.0));
+  EXPECT_TRUE(straight.between_jaws(straight.hinge() + Vec3(0, 0, -5.5e-3), 1.0));
+  // Opened by the bend's own size, the -x jaw lies along the shaft and the +x jaw at twice the
+  // bend: the inner faces' directions.
+  c.jaw_opening_rad = 2.0 * b;
+  const InstrumentGeometry wide(c);
+  EXPECT_NEAR((wide.jaw_pose(1, 0.0).orientation * Vec3::UnitZ() - Vec3::UnitZ()).norm(), 0.0, 1e-12);
+  const Vec3 far = wide.jaw_pose(0, 0.0).orientation * Vec3::UnitZ();
+  EXPECT_NEAR(std::acos(far.dot(Vec3::UnitZ())), 2.0 * b, 1e-12);
+  EXPECT_LT(far.x(), 0.0);  // its hinge end up and to -x: the jaw's end leans to +x
+  // Straight jaws are where they were: the bend of 0 changes nothing.
+  c.jaw_angle_rad = 0.0;
+  c.jaw_opening_rad = 50.0 * std::numbers::pi / 180.0;
+  const InstrumentGeometry again(c);
+  for (int k = 0; k < 2; ++k)
+    for (double closure : {0.0, 0.4, 1.0}) {
+      EXPECT_EQ(again.jaw_pose(k, closure).position, straight.jaw_pose(k, closure).position);
+      EXPECT_EQ(again.jaw_pose(k, closure).orientation.coeffs(),
+                straight.jaw_pose(k, closure).orientation.coeffs());
+    }
+  EXPECT_NEAR(again.working_point().z(), -0.083, 1e-15);
+}
+
 }  // namespace
 }  // namespace acdr

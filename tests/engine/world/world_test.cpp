@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 namespace acdr {
@@ -315,6 +316,44 @@ TEST(WorldGrasp, ClosedJawsCarryWhatIsBetweenThemAndOpeningLetsItGo) {
   for (int i = 0; i < 100; ++i) w.step(grip_at(z, 0.0));
   for (const std::int32_t k : held) EXPECT_FALSE(n.is_kinematic(static_cast<std::size_t>(k)));
   ASSERT_FALSE(w.failed());
+}
+
+TEST(WorldGrasp, AngledJawsHoldTheBiteAlongTheirBentAxis) {
+  // Jaws bent 30 degrees toward +x, plunged open into the box 1.5 mm left of its middle (so
+  // the far jaw, 55 degrees off the shaft, stays clear of the wall) and closed there.
+  WorldConfig c = rongeur_box();
+  c.instrument.jaw_shake_off = false;
+  const double bend = 30.0 * std::numbers::pi / 180.0;
+  c.instrument.jaw_angle_rad = bend;
+  World w(c);
+  const Nucleus& n = *w.nucleus();
+  auto grip = [](double z, double closure) {
+    DeviceSample s = at(Vec3(-1.5e-3, 0, z));
+    s.grip = closure;
+    return s;
+  };
+  const double z0 = 0.07, z1 = 0.0568;
+  for (int i = 0; i < 300; ++i) w.step(grip(z0 + (z1 - z0) * (i + 1) / 300.0, 0.0));
+  for (int i = 0; i < 100; ++i) w.step(grip(z1, 0.0));
+  for (int i = 0; i < 300; ++i) w.step(grip(z1, 1.0));
+  ASSERT_FALSE(w.failed());
+  const std::vector<std::int32_t> held(w.held_particles().begin(), w.held_particles().end());
+  ASSERT_GT(held.size(), 5u);
+  // Every held particle lies between the bent jaws, and the bite along their axis: its middle
+  // off the shaft's axis toward +x, within the 2 mm between the closed jaws' inner faces.
+  const Pose pose = w.last_frame().instrument;
+  const InstrumentGeometry& g = *w.instrument();
+  const Vec3 axis(std::sin(bend), 0.0, -std::cos(bend));
+  const Vec3 across(std::cos(bend), 0.0, std::sin(bend));
+  Vec3 mean = Vec3::Zero();
+  for (const std::int32_t i : held) {
+    const Vec3 local = pose.inverse_apply(n.positions()[static_cast<std::size_t>(i)]);
+    EXPECT_TRUE(g.between_jaws(local, 1.0)) << i;
+    EXPECT_LE(std::abs((local - g.hinge()).dot(across)), 1.0e-3 + 1e-9) << i;
+    mean += local / static_cast<double>(held.size());
+  }
+  EXPECT_GT(mean.x(), 0.5e-3);
+  EXPECT_GT((mean - g.hinge()).dot(axis), 0.0);
 }
 
 // Bite, lift the jaws 25 mm above the box (out of the removal region) and open them there;
