@@ -65,7 +65,9 @@ TEST(Instrument, AngledCupOpensBackTowardTheGrip) {
   EXPECT_EQ(cup.pose.position, InstrumentGeometry(straight).local_colliders()[0].pose.position);
 }
 
-TEST(Instrument, RongeurJawsCloseAboutTheHingeAndEncloseTheBite) {
+// The straight rongeur of the measurements (docs/anatomy.md): 3 mm wide, 6 mm long jaws, each
+// 1 mm deep with a 0.4 mm wall, opening 50 degrees, on an 80 mm shaft.
+InstrumentConfig straight_rongeur() {
   InstrumentConfig c;
   c.shape = InstrumentShape::kRongeur;
   c.shaft_length_m = 0.08;
@@ -74,6 +76,11 @@ TEST(Instrument, RongeurJawsCloseAboutTheHingeAndEncloseTheBite) {
   c.jaw_depth_m = 1e-3;
   c.jaw_wall_m = 0.4e-3;
   c.jaw_opening_rad = 50.0 * std::numbers::pi / 180.0;
+  return c;
+}
+
+TEST(Instrument, RongeurJawsCloseAboutTheHingeAndEncloseTheBite) {
+  InstrumentConfig c = straight_rongeur();
   InstrumentGeometry g(c);
   ASSERT_EQ(g.local_colliders().size(), 3u);  // two jaws and the shaft
   EXPECT_EQ(g.local_colliders()[2].kind, ColliderKind::kCapsule);
@@ -112,14 +119,7 @@ TEST(Instrument, RongeurJawsCloseAboutTheHingeAndEncloseTheBite) {
 }
 
 TEST(Instrument, AngledJawsLieOnTheirBentAxis) {
-  InstrumentConfig c;
-  c.shape = InstrumentShape::kRongeur;
-  c.shaft_length_m = 0.08;
-  c.jaw_length_m = 6e-3;
-  c.jaw_width_m = 3e-3;
-  c.jaw_depth_m = 1e-3;
-  c.jaw_wall_m = 0.4e-3;
-  c.jaw_opening_rad = 50.0 * std::numbers::pi / 180.0;
+  InstrumentConfig c = straight_rongeur();
   const InstrumentGeometry straight(c);
   const double b = 30.0 * std::numbers::pi / 180.0;
   c.jaw_angle_rad = b;
