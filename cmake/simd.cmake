@@ -28,4 +28,6 @@ elseif(NOT acdr_simd_path STREQUAL "baseline")
   message(FATAL_ERROR "ACDR_SIMD must be auto, avx2 or baseline, not '${ACDR_SIMD}'")
 endif()
 set(ACDR_SIMD_PATH "${acdr_simd_path}")
+# Named by `acdr --version` and the bench's machine line.
+add_compile_definitions(ACDR_SIMD_PATH="${ACDR_SIMD_PATH}")
 message(STATUS "SIMD path: ${ACDR_SIMD_PATH} (ACDR_SIMD=${ACDR_SIMD})")

@@ -65,18 +65,15 @@ def cup_to_grip(shaft_mm, cup_mm, wall_mm):
 
 
 def rongeur_to_grip(shaft_mm, jaw_length_mm, jaw_angle_deg=0.0):
-    """engine/rigid/instrument.cpp: the middle of the jaws lies shaft + jaw length / 2 below
-    the grip; jaws angled by jaw_angle_deg (toward the instrument's +x) put it
-    (jaw length / 2) (sin a, 0, -cos a) from the shaft's tip. Returns how far below the grip
-    (mm) -- with the second value of rongeur_offset, how far to the side."""
-    if not jaw_angle_deg:
-        return shaft_mm + 0.5 * jaw_length_mm
+    """engine/rigid/instrument.cpp: the middle of the jaws lies (jaw length / 2) (sin a, 0,
+    -cos a) from the shaft's tip, a the jaws' bend toward the instrument's +x (0 straight).
+    How far below the grip it lies (mm); rongeur_offset gives how far to the side."""
     return shaft_mm + 0.5 * jaw_length_mm * math.cos(math.radians(jaw_angle_deg))
 
 
 def rongeur_offset(jaw_length_mm, jaw_angle_deg=0.0):
     """How far to the instrument's +x the middle of angled jaws lies off the shaft's axis (mm)."""
-    return 0.5 * jaw_length_mm * math.sin(math.radians(jaw_angle_deg)) if jaw_angle_deg else 0.0
+    return 0.5 * jaw_length_mm * math.sin(math.radians(jaw_angle_deg))
 
 
 def waypoint_lines(lines, length=L_MM, lateral=0.0):

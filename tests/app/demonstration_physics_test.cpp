@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/attempt_session.hpp"
+#include "engine/core/state_hash.hpp"
 #include "scenarios/content_hash.hpp"
 #include "tests/db/db_test_support.hpp"
 #include "tests/scenarios/scenario_test_support.hpp"
@@ -58,9 +59,7 @@ TEST_P(DemonstrationPhysics, TheFirstSecondsOfExpertOneReachTheStoredState) {
   ASSERT_EQ(r.end, SessionEnd::kCompleted) << r.error << notes.str();
   ASSERT_TRUE(r.world);
   EXPECT_NEAR(r.world->time_s(), until_s, 2e-3);
-  char hash[17];
-  std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(r.run.state_hash));
-  EXPECT_EQ(std::string(hash), check["state_hash"].get<std::string>())
+  EXPECT_EQ(hash_hex(r.run.state_hash), check["state_hash"].get<std::string>())
       << module << ": the module reaches another state after " << until_s
       << " s of expert_1 than when its demonstrations were replayed, so results.json and the "
          "rubric's benchmarks describe other physics: run scripts/demonstrations to replay "
