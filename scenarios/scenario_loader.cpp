@@ -435,6 +435,7 @@ void read_anatomy(ObjectReader& r, AnatomyConfig& a, BoneModelConfig& bone,
   if (auto o = r.object("meshes", Need::kOptional)) read_meshes(*o, a, scenario_path);
   if (auto o = r.object("sdf", Need::kOptional)) read_sdf(*o, a);
   if (auto o = r.object("zones", Need::kOptional)) read_zones(*o, a);
+  if (auto b = r.boolean("posterior_ligament", Need::kOptional)) a.posterior_ligament = *b;
   if (auto s = r.string("cache_dir", Need::kOptional, true, {},
                         "a directory for cached meshes and grids, or \"none\"")) {
     a.cache_dir = *s;

@@ -232,8 +232,10 @@ RenderScene snapshot_state(const World& world, const WorldState& state, float as
   scene.ground.visible = config.ground.enabled;
   if (config.ground.enabled) scene.ground.height_m = static_cast<float>(config.ground.height_m);
 
-  if (style.draw_walls)
-    for (const Collider& c : world.static_colliders()) add_collider(scene, c, style.wall, 0.3f);
+  for (const Collider& c : world.static_colliders()) {
+    if (c.particles_only) add_collider(scene, c, style.ligament, 0.5f);  // anatomy
+    else if (style.draw_walls) add_collider(scene, c, style.wall, 0.3f);
+  }
   if (style.draw_instrument)
     for (const Collider& c : state.instrument) add_collider(scene, c, style.instrument, 0.7f);
 

@@ -21,6 +21,8 @@ struct SceneStyle {
   Eigen::Vector4f cartilage{0.74f, 0.82f, 0.90f, 1.0f};  ///< endplate cartilage, bluish white
   Eigen::Vector4f removed{0.95f, 0.42f, 0.22f, 1.0f};  ///< material that left the removal region
   Eigen::Vector4f bone{0.90f, 0.86f, 0.74f, 1.0f};
+  /// The posterior longitudinal ligament behind the disc space: silvery white fibre.
+  Eigen::Vector4f ligament{0.80f, 0.82f, 0.86f, 1.0f};
   Eigen::Vector4f artery{0.85f, 0.12f, 0.12f, 0.55f};   ///< vertebral arteries, translucent
   Eigen::Vector4f nerve{0.98f, 0.86f, 0.20f, 0.55f};    ///< nerve roots
   Eigen::Vector4f cord{0.35f, 0.55f, 0.95f, 0.30f};     ///< spinal cord / PLL
@@ -28,7 +30,8 @@ struct SceneStyle {
   /// A zone the instrument is within the warning distance of, and one it is inside.
   Eigen::Vector4f zone_warning{1.00f, 0.62f, 0.05f, 0.60f};
   Eigen::Vector4f zone_inside{1.00f, 0.05f, 0.05f, 0.80f};
-  /// Off for an atlas picture of the anatomy alone (no instrument, no tray or walls).
+  /// Off for an atlas picture of the anatomy alone (no instrument, no tray or walls; the
+  /// ligament is anatomy and stays).
   bool draw_instrument = true;
   bool draw_walls = true;
 };

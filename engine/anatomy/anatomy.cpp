@@ -121,4 +121,19 @@ Collider Anatomy::bone_collider() const {
   return c;
 }
 
+Collider Anatomy::posterior_ligament_collider(double face_offset_m) const {
+  const SegmentLandmarks& l = landmarks_;
+  constexpr double kThickness = 3.0e-3;  // deeper than a particle's reach: one flat face
+  Collider c;
+  c.kind = ColliderKind::kBox;
+  c.particles_only = true;
+  const double face_z = l.body_back_z_m - face_offset_m;
+  c.pose.position = Vec3(0.0, 0.5 * (l.c4_lower_endplate_y_m + l.c5_upper_endplate_y_m),
+                         face_z - 0.5 * kThickness);
+  c.half_extents_m = Vec3(l.canal_half_width_m,
+                          0.5 * (l.c4_lower_endplate_y_m - l.c5_upper_endplate_y_m),
+                          0.5 * kThickness);
+  return c;
+}
+
 }  // namespace acdr

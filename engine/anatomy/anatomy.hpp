@@ -50,6 +50,10 @@ class Anatomy {
   }
   /// The static collider the particles see for the bone.
   Collider bone_collider() const;
+  /// The posterior longitudinal ligament the particles see: a flat wall across the canal's
+  /// width and the disc's height, its front face `face_offset_m` behind the bodies' posterior
+  /// wall, 3 mm thick; `particles_only` (a blade passes it). See docs/anatomy.md.
+  Collider posterior_ligament_collider(double face_offset_m) const;
   /// Generated zones first, then the scenario's own, in a fixed order (at most kMaxZones).
   const std::vector<DangerZone>& zones() const { return zones_; }
   const AnatomyBuildReport& report() const { return report_; }

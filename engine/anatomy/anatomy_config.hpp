@@ -28,6 +28,10 @@ struct AnatomyConfig {
   SdfGridParams sdf;
   /// Spacing of each vertebra's own grid, used by the endplate zones (m).
   double zone_sdf_spacing_m = 0.5e-3;
+  /// The posterior longitudinal ligament as a wall for the particles (not for the instrument)
+  /// across the back of the disc space: disc material pushed backward stops at it instead of
+  /// entering the spinal canal (Anatomy::posterior_ligament_collider).
+  bool posterior_ligament = false;
   bool generate_zones = true;  ///< arteries, roots, cord/PLL, endplates (danger_zone.hpp)
   C4C5ZoneParams zone_params;
   /// More zones from the scenario. A kSdfBand zone names its bone in `bone` (0 C4, 1 C5).

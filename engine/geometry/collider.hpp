@@ -37,6 +37,9 @@ struct Collider {
   /// The gel slides on this surface: the particles' no-slip (viscous) coupling to it is off and
   /// only its contact pushes them out (a rongeur's open jaws shaken over the tray).
   bool slip = false;
+  /// Only the particles meet it; the instrument passes through (a ligament that holds the gel
+  /// back but that a blade cuts). The rigid world leaves it out.
+  bool particles_only = false;
 
   /// Velocity of the collider's material at world point p.
   Vec3 velocity_at(const Vec3& p) const {

@@ -91,6 +91,7 @@ RigidWorld::RigidWorld(const Vec3& gravity_m_s2, const Pose& instrument_start,
   w.getSolverInfo().m_splitImpulsePenetrationThreshold = -1.0e-5;
 
   for (const Collider& c : static_colliders) {
+    if (c.particles_only) continue;
     if (c.kind == ColliderKind::kHalfSpace) {
       auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0);
       plane->setMargin(kMargin);

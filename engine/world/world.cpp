@@ -56,7 +56,12 @@ World::World(const WorldConfig& config)
   // anatomy: vertebrae, their distance grid for the particles, the zones
   if (config_.anatomy.enabled) {
     anatomy_ = std::make_unique<Anatomy>(config_.anatomy);
-    static_colliders_.push_back(anatomy_->bone_collider());
+    // The ligament's face half a lattice spacing behind the bodies: the disc's particles stand
+    // for cells h wide around the lattice sites, so its back row's cells reach that far.
+    if (config_.anatomy.posterior_ligament && config_.nucleus.enabled)
+      static_colliders_.push_back(
+          anatomy_->posterior_ligament_collider(0.5 * config_.nucleus.spacing_m));
+    static_colliders_.push_back(anatomy_->bone_collider());  // last: its loads are gathered
     for (const DangerZone& z : anatomy_->zones())
       summary_.zones.push_back({z.name, z.warning_distance_m, z.force_limit_N, z.never_event});
     frame_.zone_count = static_cast<std::int32_t>(anatomy_->zones().size());

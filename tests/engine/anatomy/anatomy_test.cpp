@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "engine/geometry/mesh_io.hpp"
@@ -138,6 +140,70 @@ TEST_F(AnatomyTest, WorldStepsWithBoneAndZoneSamples) {
   bool warned = false;
   for (const Event& e : events) warned = warned || (e.kind == EventKind::kZoneWarning && e.zone == 6);
   EXPECT_TRUE(warned);
+}
+
+
+// The posterior longitudinal ligament: the cup driven backward through a block of gel at the
+// back of the disc space pushes the back rows toward the canal. With the ligament they stop
+// at its face (half a lattice spacing behind the bodies); without it they enter the canal.
+// The blade itself passes the ligament: the rigid world does not see it.
+struct LigamentPush {
+  double min_z_m = 0.0;          // the rearmost particle centre over the push
+  double peak_contact_N = 0.0;   // rigid contact on the instrument
+  double cord_distance_m = 0.0;  // the cup from the cord zone at the deepest point
+};
+
+LigamentPush push_toward_the_canal(const std::string& dir, bool ligament) {
+  WorldConfig w = test::coarse_segment_world(dir);
+  w.anatomy.posterior_ligament = ligament;
+  ParticleBlockConfig back;  // 4 x 5 x 4 rows, the rearmost at z = -8 mm (bodies' wall -8.05)
+  back.min_m = Vec3(-2.0, -2.5, -8.5) * kMm;
+  back.max_m = Vec3(2.0, 2.5, -4.5) * kMm;
+  w.nucleus.blocks = {back};
+  World world(w);
+  const double start_z = w.instrument_start.position.z();
+  double cup_z = 0.0;  // the cup shell's centre
+  for (const Collider& c : world.instrument_colliders())
+    if (c.kind == ColliderKind::kCupShell) cup_z = c.pose.position.z();
+  const double cup_offset = start_z - cup_z;  // grip to cup centre along z
+  LigamentPush out;
+  out.min_z_m = 1.0;
+  DeviceSample s;
+  s.pose = w.instrument_start;
+  // 1.2 s down to the cup centre at z = -9.8 mm (its back 1.5 mm further, through the
+  // ligament's face), then 0.3 s held.
+  const double end_z = -9.8 * kMm + cup_offset;
+  for (int i = 0; i < 1500; ++i) {
+    const double a = std::min(1.0, world.time_s() / 1.2);
+    s.t_s = world.time_s();
+    s.pose.position.z() = start_z + a * (end_z - start_z);
+    const Frame& f = world.step(s);
+    out.peak_contact_N = std::max(out.peak_contact_N, f.contact_force_N.norm());
+    for (const Vec3& x : world.nucleus()->positions()) out.min_z_m = std::min(out.min_z_m, x.z());
+    out.cord_distance_m = f.zones[4].distance_m;  // spinal_cord_pll
+  }
+  EXPECT_FALSE(world.failed());
+  return out;
+}
+
+TEST_F(AnatomyTest, PosteriorLigamentHoldsTheDiscAndLetsTheBladePass) {
+  World probe(test::coarse_segment_world(dir_));
+  const SegmentLandmarks& l = probe.anatomy()->landmarks();
+  ASSERT_EQ(probe.summary().zones[4].name, "spinal_cord_pll");
+  const double face = l.body_back_z_m - 0.5 * kMm;  // half the 1 mm spacing behind the bodies
+  const LigamentPush with = push_toward_the_canal(dir_, true);
+  const LigamentPush without = push_toward_the_canal(dir_, false);
+  std::printf("rearmost particle: %.3f mm with the ligament, %.3f mm without (face %.3f mm); "
+              "peak rigid contact %.4f / %.4f N; cup from the cord zone %.2f mm\n",
+              with.min_z_m / kMm, without.min_z_m / kMm, face / kMm, with.peak_contact_N,
+              without.peak_contact_N, with.cord_distance_m / kMm);
+  // Held: no particle centre comes within a quarter spacing of the face.
+  EXPECT_GT(with.min_z_m, face + 0.25 * kMm);
+  // Not held: pushed past where the ligament's face would be.
+  EXPECT_LT(without.min_z_m, face);
+  // The cup went through the ligament into the cord zone's warning band, as without it.
+  EXPECT_LT(with.cord_distance_m, 1.0 * kMm);
+  EXPECT_NEAR(with.peak_contact_N, without.peak_contact_N, 0.02);
 }
 
 }  // namespace
