@@ -18,39 +18,39 @@ import argparse
 import sys
 
 
-def rows_of(path):
-    """(header columns, rows as lists of floats) of a waypoint file; comments dropped."""
+def parse_rows(lines, source):
+    """(header columns, rows as lists of floats) of a waypoint file's lines; comments dropped.
+    `source` names the lines in errors."""
     header, rows = None, []
-    with open(path) as f:
-        for n, line in enumerate(f, 1):
-            line = line.split("#", 1)[0].strip()
-            if not line:
-                continue
-            if header is None:
-                header = line.replace(" ", "").split(",")
-                if header[:7] != ["t_s", "x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg"]:
-                    raise ValueError("%s:%d: not a waypoint header (got '%s')" % (path, n, line))
-                if "instrument" in header:
-                    raise ValueError("%s:%d: already has an instrument column" % (path, n))
-                continue
-            values = [float(v) for v in line.split(",")]
-            if len(values) != len(header):
-                raise ValueError("%s:%d: expected %d values, got %d"
-                                 % (path, n, len(header), len(values)))
-            rows.append(values)
+    for n, line in enumerate(lines, 1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        if header is None:
+            header = line.replace(" ", "").split(",")
+            if header[:7] != ["t_s", "x_mm", "y_mm", "z_mm", "roll_deg", "pitch_deg", "yaw_deg"]:
+                raise ValueError("%s:%d: not a waypoint header (got '%s')" % (source, n, line))
+            if "instrument" in header:
+                raise ValueError("%s:%d: already has an instrument column" % (source, n))
+            continue
+        values = [float(v) for v in line.split(",")]
+        if len(values) != len(header):
+            raise ValueError("%s:%d: expected %d values, got %d"
+                             % (source, n, len(header), len(values)))
+        rows.append(values)
     if not rows:
-        raise ValueError("%s: no waypoints" % path)
+        raise ValueError("%s: no waypoints" % source)
     return header, rows
 
 
-def join(parts, gap_s):
-    """The joined waypoint lines of [(path, instrument index)]."""
+def join_parts(parts, gap_s):
+    """The joined waypoint lines of [(name, waypoint lines, instrument index)]."""
     out = ["t_s,x_mm,y_mm,z_mm,roll_deg,pitch_deg,yaw_deg,grip,instrument"]
     offset = 0.0
-    for k, (path, instrument) in enumerate(parts):
-        header, rows = rows_of(path)
+    for k, (name, lines, instrument) in enumerate(parts):
+        header, rows = parse_rows(lines, name)
         has_grip = "grip" in header
-        out.append("# part %d: %s, instrument %d" % (k + 1, path, instrument))
+        out.append("# part %d: %s, instrument %d" % (k + 1, name, instrument))
         shift = offset - rows[0][0] + (gap_s if k > 0 else 0.0)
         for v in rows:
             grip = v[7] if has_grip else 1.0
@@ -58,6 +58,15 @@ def join(parts, gap_s):
                        % (v[0] + shift, v[1], v[2], v[3], v[4], v[5], v[6], grip, instrument))
         offset = rows[-1][0] + shift
     return out
+
+
+def join(parts, gap_s):
+    """The joined waypoint lines of [(path, instrument index)]."""
+    files = []
+    for path, instrument in parts:
+        with open(path) as f:
+            files.append((path, f.read().splitlines(), instrument))
+    return join_parts(files, gap_s)
 
 
 def main():

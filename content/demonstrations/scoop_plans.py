@@ -55,6 +55,9 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import c4c5_waypoints  # noqa: E402
+import join_waypoints  # noqa: E402
+
+PART_GAP_S = 1.0  # the hand's move from one part's last row to the next part's first
 
 ENDPLATE_WARNING_MM = 0.3   # engine/anatomy/danger_zone.hpp: endplate_warning_m
 CORD_WARNING_MM = 1.5       # engine/anatomy/danger_zone.hpp: cord_warning_m
@@ -74,8 +77,24 @@ WIPE_S = (1.2, 0.8, 0.8, 1.6, 0.6, 0.8)
 EASE_S = 1.2                # the last of a deep plunge, eased
 
 
-def module_geometry(module):
-    """The dimensions the plans are placed by, read from a module file (JSON)."""
+def tray_roles(world):
+    """Where each kind of instrument lies on the module's tray (`world.instruments`): "cup"
+    (a cup curette), "rongeur" (straight jaws) and "angled" (jaws bent by jaw_angle_deg), the
+    first of each kind; a module with one instrument has only its own, at 0."""
+    tray = world.get("instruments") or [world["instrument"]]
+    roles = {}
+    for i, inst in enumerate(tray):
+        if inst.get("shape") == "rongeur":
+            role = "angled" if inst.get("jaw_angle_deg", 0.0) else "rongeur"
+        else:
+            role = "cup"
+        roles.setdefault(role, i)
+    return roles
+
+
+def module_geometry(module, instrument=0):
+    """The dimensions the plans are placed by, read from a module file (JSON), for the
+    instrument at that place on its tray (`world.instruments`; 0 also for `world.instrument`)."""
     world = module["world"]
     blocks = world["nucleus"]["blocks"]
     materials = {m["name"]: m for m in world["nucleus"]["materials"]}
@@ -89,7 +108,11 @@ def module_geometry(module):
     ring = [b for b in blocks if "cutout_min_mm" in b]
     window = (0.5 * (ring[0]["cutout_max_mm"][0] - ring[0]["cutout_min_mm"][0]) if ring
               else nucleus["semi_axes_mm"][0])
-    inst = world["instrument"]
+    tray = world.get("instruments") or [world["instrument"]]
+    if not 0 <= instrument < len(tray):
+        raise ValueError("instrument %d: the module's tray has %d (0 to %d)"
+                         % (instrument, len(tray), len(tray) - 1))
+    inst = tray[instrument]
     box = world["box"]
     morph = world.get("anatomy", {}).get("morphometry", {})
     jaw = None
@@ -122,6 +145,7 @@ def module_geometry(module):
         "shaft_length_mm": inst["shaft_length_mm"],
         "shaft_r": 0.5 * inst.get("shaft_diameter_mm", 2.0),
         "time_limit_s": module.get("time_limit_s", 0),
+        "roles": tray_roles(world),
         "nucleus_viscosity_Pa_s": materials[nucleus["material"]].get("viscosity_Pa_s", 300.0),
         # The virtual coupling (engine/rigid/instrument_config.hpp defaults): what a hand's push
         # on the grip and its turn of the stylus become at the cup.
@@ -407,6 +431,58 @@ EXPERTS_VISCOUS = {
 VISCOUS_PA_S = 1000.0  # a target gel above this gets EXPERTS_VISCOUS
 
 
+# With rongeurs on the tray beside the cup (a straight pituitary rongeur and one whose jaws are
+# angled 30 deg) and the posterior longitudinal ligament behind the disc, the experts bite the
+# nucleus out in rounds (docs/anatomy.md, "The tray's experts"), each round the same four kinds
+# of bite:
+# - the angled jaws opened above the window and slid in open along each side wall, in the upper
+#   and the lower half (WALL), or higher and lower still (WALL_WIDE, WALL_WIDE_DEEP: the tips
+#   further back); they take the sides the straight jaws cannot reach through the window;
+# - the straight jaws down the middle, in the upper and the lower half, and across the back from
+#   each side (MIDDLE), or in front (FRONT_MIDDLE).
+WALL = [A("the left wall, upper half", 0.52, 0.1, -0.314, -25),
+        A("the right wall, upper half", -0.52, 0.1, -0.314, 25),
+        A("the left wall, lower half", 0.52, -0.4, -0.314, -25),
+        A("the right wall, lower half", -0.52, -0.4, -0.314, 25)]
+WALL_WIDE = [A("the left wall, high", 0.52, 0.4, -0.314, -25),
+             A("the right wall, high", -0.52, 0.4, -0.314, 25),
+             A("the left wall, low", 0.52, -0.6, -0.314, -25),
+             A("the right wall, low", -0.52, -0.6, -0.314, 25)]
+WALL_WIDE_FRONT = [A("the left wall, high, further forward", 0.52, 0.4, -0.15, -25),
+                   A("the right wall, high, further forward", -0.52, 0.4, -0.15, 25),
+                   A("the left wall, low, further forward", 0.52, -0.6, -0.15, -25),
+                   A("the right wall, low, further forward", -0.52, -0.6, -0.15, 25)]
+MIDDLE = [A("the middle, upper half, to the back", 0, 0.3, -0.42, 0),
+          A("the middle, lower half, to the back", 0, -0.3, -0.42, 0),
+          A("the back, from the right", -0.35, 0, -0.3, 0),
+          A("the back, from the left", 0.35, 0, -0.3, 0)]
+FRONT_MIDDLE = [A("the middle, upper half, in front", 0, 0.3, 0, 0),
+                A("the middle, lower half, in front", 0, -0.3, 0, 0),
+                A("the front, right", -0.4, 0, 0.3, 0),
+                A("the front, left", 0.4, 0, 0.3, 0)]
+
+# (description, pace, parts): each part (the tray's kind of instrument, its moves) follows the
+# one before, the instrument exchanged in between (join_waypoints.py).
+EXPERTS_TRAY = {
+    "expert_1": ("two rounds: the side walls with the angled rongeur, the middle and the back "
+                 "with the straight one, then the walls wider and the middle again", 0.5,
+                 [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL_WIDE),
+                  ("rongeur", MIDDLE)]),
+    "expert_2": ("two rounds, the second round's wall bites further forward, a little slower",
+                 0.55, [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL_WIDE_FRONT),
+                        ("rongeur", MIDDLE)]),
+    "expert_3": ("brisk: the walls and the middle twice, then the walls wider", 0.45,
+                 [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL), ("rongeur", MIDDLE),
+                  ("angled", WALL_WIDE)]),
+    "expert_4": ("brisk: two rounds, then the front of the middle", 0.45,
+                 [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL_WIDE),
+                  ("rongeur", MIDDLE), ("rongeur", FRONT_MIDDLE)]),
+    "expert_5": ("unhurried: the walls wide first, the middle, then the walls and the middle",
+                 0.6, [("angled", WALL_WIDE), ("rongeur", MIDDLE), ("angled", WALL),
+                       ("rongeur", MIDDLE)]),
+}
+
+
 def novices(reference, time_limit_s, slow_pace=2.0):
     """The same five kinds of error for every anatomical module (the hesitant one at slow_pace,
     slower than the module's experts)."""
@@ -444,6 +520,8 @@ def plans_for(module_path, g):
     if g["nucleus_viscosity_Pa_s"] > VISCOUS_PA_S:
         experts = EXPERTS_VISCOUS
         slow_pace = 2.4  # the experts there work at 1.45-1.55
+    if g["nucleus_viscosity_Pa_s"] <= VISCOUS_PA_S and {"rongeur", "angled"} <= set(g["roles"]):
+        experts = EXPERTS_TRAY
     plans = dict(experts)
     plans.update(novices(REFERENCE, g["time_limit_s"], slow_pace))
     return plans
@@ -794,6 +872,41 @@ def header(name, description, g, module_path):
     ]
 
 
+def is_tray_plan(plan):
+    """A plan of parts (EXPERTS_TRAY) rather than of one instrument's moves."""
+    moves = plan[2]
+    return bool(moves) and isinstance(moves[0], tuple) and moves[0][0] in ("cup", "rongeur",
+                                                                           "angled")
+
+
+def plan_files(name, plan, module, module_path, instrument=0):
+    """The lines of a plan's .cup.csv and .waypoints.csv. A tray plan's parts are placed each
+    for its own instrument and joined, the instrument exchanged between them; its .cup.csv
+    lists each part's rows after a '# part' line, each part's time from 0."""
+    g0 = module_geometry(module, instrument)
+    if not is_tray_plan(plan):
+        description, rows = cup_rows(plan, g0)
+        lines = header(name, description, g0, module_path) + rows
+        return lines, c4c5_waypoints.waypoint_lines(lines, g0["grip_mm"], g0["grip_lateral_mm"])
+    description, pace, parts = plan
+    cup, joined = header(name, description, g0, module_path), []
+    for k, (role, moves) in enumerate(parts):
+        if role not in g0["roles"]:
+            raise ValueError("%s: the module's tray has no %s" % (name, role))
+        index = g0["roles"][role]
+        g = module_geometry(module, index)
+        _, rows = cup_rows((description, pace, moves), g)
+        cup.append("# part %d: the %s (instrument %d)" % (k + 1, role, index))
+        cup.extend(rows)
+        joined.append(("%s part %d, the %s" % (name, k + 1, role),
+                       c4c5_waypoints.waypoint_lines(rows, g["grip_mm"], g["grip_lateral_mm"]),
+                       index))
+    waypoints = [line for line in cup if line.startswith("#") and not line.startswith("# part")
+                 and not line.startswith("# Cup-centre")]
+    lines = join_waypoints.join_parts(joined, PART_GAP_S)
+    return cup, lines[:1] + waypoints + lines[1:]
+
+
 def main():
     ap = argparse.ArgumentParser(description="cup-centre plans of the C4-C5 demonstrations")
     ap.add_argument("module", help="module file (scenarios/modules/0[2-4]_*.json)")
@@ -803,9 +916,16 @@ def main():
     ap.add_argument("--moves", help="a plan of these moves instead of the bundled ones (named "
                     "PLAN, default 'trial'): e.g. 'F1,F2,P:0.75:0.6:-0.6' (parse_moves)")
     ap.add_argument("--pace", type=float, default=0.65, help="the --moves plan's pace (0.65)")
+    ap.add_argument("--instrument", type=int, default=0, help="the --moves plan's instrument: "
+                    "its place on the module's tray (world.instruments), 0 the first")
     args = ap.parse_args()
     with open(args.module) as f:
-        g = module_geometry(json.load(f))
+        module = json.load(f)
+    try:
+        g = module_geometry(module, args.instrument if args.moves is not None else 0)
+    except ValueError as e:
+        sys.stderr.write("%s\n" % e)
+        return 2
     plans = plans_for(args.module, g)
     if args.moves is not None:
         try:
@@ -820,30 +940,25 @@ def main():
         for name, plan in plans.items():
             print("%-14s %s" % (name, plan[0]))
         return 0
-    if args.write_dir:
-        for name, plan in plans.items():
-            try:
-                description, rows = cup_rows(plan, g)
-            except ValueError as e:  # a move the anatomy does not allow (an angled bite's shaft)
-                sys.stderr.write("%s\n" % e)
-                return 2
-            lines = header(name, description, g, args.module) + rows
-            with open(os.path.join(args.write_dir, name + ".cup.csv"), "w") as f:
-                f.write("\n".join(lines) + "\n")
-            with open(os.path.join(args.write_dir, name + ".waypoints.csv"), "w") as f:
-                f.write("\n".join(c4c5_waypoints.waypoint_lines(lines, g["grip_mm"],
-                                                                 g["grip_lateral_mm"])) + "\n")
-        return 0
-    if args.plan not in plans:
+    instrument = args.instrument if args.moves is not None else 0
+    names = list(plans) if args.write_dir else [args.plan]
+    if not args.write_dir and args.plan not in plans:
         sys.stderr.write("%s: no plan '%s' (expected one of %s)\n"
                          % (args.module, args.plan, ", ".join(plans)))
         return 2
-    try:
-        description, rows = cup_rows(plans[args.plan], g)
-    except ValueError as e:
-        sys.stderr.write("%s\n" % e)
-        return 2
-    print("\n".join(header(args.plan, description, g, args.module) + rows))
+    for name in names:
+        try:
+            cup, waypoints = plan_files(name, plans[name], module, args.module, instrument)
+        except ValueError as e:  # a move the anatomy does not allow (an angled bite's shaft)
+            sys.stderr.write("%s\n" % e)
+            return 2
+        if not args.write_dir:
+            print("\n".join(cup))
+            return 0
+        with open(os.path.join(args.write_dir, name + ".cup.csv"), "w") as f:
+            f.write("\n".join(cup) + "\n")
+        with open(os.path.join(args.write_dir, name + ".waypoints.csv"), "w") as f:
+            f.write("\n".join(waypoints) + "\n")
     return 0
 
 

@@ -20,11 +20,13 @@ Rubric rubric_of(const char* module) {
   return loaded.ok() ? loaded.model->rubric : Rubric{};
 }
 
-// What `acdr run` measured for the expert's first four scoops on module 02 (45.5 % removed,
-// never near a zone).
+// What `acdr run` measured for the expert's first four scoops on module 02 (never near a zone),
+// with the removal of a whole expert attempt (module 02's expert_5, results.json) so that the
+// task counts as done: the four scoops' own 45.5 % is under the task line since the experts
+// bite 81-83 % of the nucleus out with the rongeurs (docs/anatomy.md, "The tray's experts").
 Metrics clean_four_scoops() {
   Metrics m;
-  m.set("nucleus_removed_fraction", 0.4548022598870056);
+  m.set("nucleus_removed_fraction", 0.8117283950617284);
   m.set("protected_removed_mm3", 0.0);
   m.set("peak_bending_moment_Nm", 0.02681584692516365);
   m.set("overload_events", 0);
