@@ -74,12 +74,25 @@ double AttemptDrillDown::opening_t_s() const {
   return 0.6 * duration_s;
 }
 
-void ReplayGeometry::instrument_at(const Pose& grip, std::vector<Collider>& out) const {
-  out.resize(instrument.size());
-  for (std::size_t i = 0; i < instrument.size(); ++i) {
-    out[i] = instrument[i];
-    out[i].pose.position = grip.apply(instrument[i].pose.position);
-    out[i].pose.orientation = grip.orientation * instrument[i].pose.orientation;
+int ReplayGeometry::instrument_in_hand(double t_s) const {
+  int in_hand = 0;
+  for (const auto& [t, index] : exchanges) {
+    if (t > t_s) break;
+    in_hand = index;
+  }
+  return in_hand;
+}
+
+void ReplayGeometry::instrument_at(const Pose& grip, double t_s, std::vector<Collider>& out) const {
+  out.clear();
+  const int k = instrument_in_hand(t_s);
+  if (k < 0 || k >= static_cast<int>(tray.size())) return;
+  const std::vector<Collider>& local = tray[static_cast<std::size_t>(k)];
+  out.resize(local.size());
+  for (std::size_t i = 0; i < local.size(); ++i) {
+    out[i] = local[i];
+    out[i].pose.position = grip.apply(local[i].pose.position);
+    out[i].pose.orientation = grip.orientation * local[i].pose.orientation;
   }
 }
 
@@ -116,8 +129,12 @@ std::shared_ptr<const ScenarioModel> load_scenario_parts(Database& db, AttemptDr
     d.replay.walls.push_back(c);
     extend_by_box(c, d.replay.bounds);
   }
-  if (world.instrument.enabled)
-    d.replay.instrument = InstrumentGeometry(world.instrument).local_colliders();
+  if (world.instrument.enabled) {
+    if (world.instruments.empty())
+      d.replay.tray.push_back(InstrumentGeometry(world.instrument).local_colliders());
+    for (const InstrumentConfig& ic : world.instruments)
+      d.replay.tray.push_back(InstrumentGeometry(ic).local_colliders());
+  }
   if (world.anatomy.enabled) {
     // The vertebrae as the attempt had them (from the mesh cache, or the files); a replay
     // without them still shows the instrument and its path.
@@ -217,6 +234,9 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   collect_bands(r.frames, [&](const Frame& f) { return any_zone(f, true); }, d->zone_inside);
   d->duration_s = n ? r.frames.back().t_s : 0.0;
   for (const Frame& f : r.frames) d->replay.bounds.extend(f.tip_m);
+  for (const Event& e : r.events)
+    if (e.kind == EventKind::kInstrumentExchange)
+      d->replay.exchanges.emplace_back(e.t_s, static_cast<int>(e.value));
   if (scenario && scenario->bone.enabled) {
     // The stresses come from the recorded loads; the scale from the attempt's endplate peak.
     d->bone_stress = BoneStressPane::create(*scenario, r, &d->bone_stress_note);

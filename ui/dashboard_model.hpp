@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/score_table.hpp"
@@ -56,15 +57,23 @@ struct TimeBand {
 /// when the attempt is opened, so drawing needs neither the scenario file nor the engine.
 struct ReplayGeometry {
   std::vector<Collider> walls;       ///< the box's walls, world frame
-  std::vector<Collider> instrument;  ///< the instrument's colliders in its grip frame; empty: none
+  /// Each instrument on the scene's tray (one for a single instrument): its colliders in its
+  /// grip frame; empty: no instrument.
+  std::vector<std::vector<Collider>> tray;
+  /// When the hand took another instrument (the recording's instrument_exchange events, in time
+  /// order): (t_s, its place on the tray). Before the first, the tray's first is in hand.
+  std::vector<std::pair<double, int>> exchanges;
   /// The vertebrae's outlines in the two replay views (x-y from above, x-z along the spine);
   /// empty in scenes without anatomy.
   MeshSilhouette bone_top, bone_side;
   std::string bone_note;  ///< why the vertebrae are not shown, when the scene has them but they could not be loaded
   Eigen::AlignedBox3d bounds;        ///< the walls and every recorded tip position (m)
 
-  /// The instrument's colliders with its grip at `grip` (world frame), into `out`.
-  void instrument_at(const Pose& grip, std::vector<Collider>& out) const;
+  /// The place on the tray of the instrument in hand at t_s.
+  int instrument_in_hand(double t_s) const;
+  /// The colliders of the instrument in hand at t_s with its grip at `grip` (world frame), into
+  /// `out` (empty without an instrument).
+  void instrument_at(const Pose& grip, double t_s, std::vector<Collider>& out) const;
 };
 
 /// An attempt opened for drill-down: its record with events and the decoded recording as

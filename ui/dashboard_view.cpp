@@ -461,7 +461,7 @@ void draw_replay(const AttemptDrillDown& d, DashboardSelection& sel) {
   // drawn: the walls, the whole tip path and the instrument's working end now.
   const std::vector<Collider>& statics = d.replay.walls;
   std::vector<Collider> instrument;
-  d.replay.instrument_at(f.instrument, instrument);
+  d.replay.instrument_at(f.instrument, f.t_s, instrument);
   Eigen::AlignedBox3d box = d.replay.bounds;
   box.extend(f.tip_m + (f.instrument.position - f.tip_m) * 0.35);
   if (box.isEmpty()) return;

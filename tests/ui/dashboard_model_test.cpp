@@ -124,7 +124,7 @@ TEST_F(DashboardModelTest, DrillDownHasTheBenchmarksAndTheReplayGeometry) {
   // The instrument at a recorded grip pose is where the engine puts it.
   const Pose grip = d->recording->frames[d->frame_at(1.5)].instrument;
   std::vector<Collider> placed, engine;
-  d->replay.instrument_at(grip, placed);
+  d->replay.instrument_at(grip, 1.5, placed);
   InstrumentGeometry(scenario.model->world.instrument)
       .world_colliders(grip, Vec3::Zero(), Vec3::Zero(), engine);
   ASSERT_EQ(placed.size(), engine.size());
@@ -156,7 +156,7 @@ TEST_F(DashboardModelTest, DrillDownWithoutItsScenarioFileStillHasItsSeries) {
   EXPECT_NE(d->scenario_error.find("gone.json"), std::string::npos) << d->scenario_error;
   EXPECT_FALSE(d->rubric);
   EXPECT_TRUE(d->replay.walls.empty());
-  EXPECT_TRUE(d->replay.instrument.empty());
+  EXPECT_TRUE(d->replay.tray.empty());
   ASSERT_TRUE(d->recording);
   EXPECT_EQ(d->t_s.size(), d->recording->frames.size());
   EXPECT_TRUE(d->replay.bounds.contains(d->recording->frames.back().tip_m));
@@ -201,6 +201,62 @@ TEST_F(DashboardModelTest, CsvOfEachView) {
   EXPECT_EQ(lines[0].rfind("t_s,hand_force_N,", 0), 0u);
   EXPECT_EQ(dashboard_csv_name(ben, d.get()),
             "dashboard-attempt-" + std::to_string(d->record.id) + ".csv");
+}
+
+// A scene with a tray: the replay draws the instrument the hand held at each moment, as the
+// recording's exchanges say (the blade, then the rongeur the hand took at 0.5 s).
+TEST(DashboardModelTray, TheReplayDrawsTheInstrumentInHand) {
+  test::TempDir dir;
+  std::ifstream in(test::kSceneData + "empty_box.json");
+  nlohmann::json s = nlohmann::json::parse(in);
+  nlohmann::json blade = s["world"]["instrument"];
+  blade["name"] = "blade";
+  const nlohmann::json rongeur = {{"name", "rongeur"}, {"shape", "rongeur"},
+                                  {"jaw_length_mm", 6},  {"jaw_width_mm", 3},
+                                  {"shaft_length_mm", 80}, {"shaft_diameter_mm", 2},
+                                  {"yield_stress_MPa", 500}, {"mass_g", 30}};
+  s["world"].erase("instrument");
+  s["world"]["instruments"] = nlohmann::json::array({blade, rongeur});
+  const std::string scenario = dir.file("tray.json");
+  std::ofstream(scenario) << s.dump(2);
+  // The grip held above the box for 1.5 s; the hand asks for the rongeur from 0.5 s.
+  const std::string trajectory = dir.file("exchange.csv");
+  {
+    std::ofstream t(trajectory);
+    t << "t_s,x_m,y_m,z_m,qw,qx,qy,qz,instrument\n";
+    for (int i = 0; i <= 150; ++i)
+      t << i * 0.01 << ",0,0,0.11,1,0,0,0," << (i < 50 ? 0 : 1) << "\n";
+  }
+  SessionOptions o;
+  o.scenario = scenario;
+  o.input = "replay:" + trajectory;
+  o.db = dir.file("record.sqlite");
+  std::ostringstream notes;
+  const SessionResult run = run_attempt_session(o, nullptr, notes);
+  ASSERT_TRUE(run.ran()) << run.error << notes.str();
+  Database db = test::open_or_fail(o.db);
+  std::string error;
+  auto d = load_drill_down(db, run.attempt_id, &error);
+  ASSERT_TRUE(d) << error;
+  ASSERT_EQ(d->replay.tray.size(), 2u);
+  ASSERT_EQ(d->replay.exchanges.size(), 1u);
+  EXPECT_NEAR(d->replay.exchanges[0].first, 0.5, 0.02);
+  EXPECT_EQ(d->replay.instrument_in_hand(0.2), 0);
+  EXPECT_EQ(d->replay.instrument_in_hand(1.0), 1);
+  LoadResult loaded = load_scenario_file(scenario);
+  ASSERT_TRUE(loaded.ok());
+  const Pose grip = d->recording->frames.back().instrument;
+  for (const auto& [t, k] : {std::pair<double, int>{0.2, 0}, {1.0, 1}}) {
+    std::vector<Collider> placed, engine;
+    d->replay.instrument_at(grip, t, placed);
+    InstrumentGeometry(loaded.model->world.instruments[static_cast<std::size_t>(k)])
+        .world_colliders(grip, Vec3::Zero(), Vec3::Zero(), engine);
+    ASSERT_EQ(placed.size(), engine.size()) << "at " << t << " s";
+    for (std::size_t i = 0; i < placed.size(); ++i) {
+      EXPECT_EQ(placed[i].kind, engine[i].kind);
+      EXPECT_EQ(placed[i].pose.position, engine[i].pose.position);
+    }
+  }
 }
 
 // The progress matrix lists every module of the curriculum for every trainee, from the first
