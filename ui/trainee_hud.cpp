@@ -52,6 +52,8 @@ HudAlert alert_for_event(const Event& e) {
       return {AlertLevel::kDanger, "Device silent: force switched off"};
     case EventKind::kNumerical:
       return {AlertLevel::kDanger, "Simulation failed (" + e.detail + ")"};
+    case EventKind::kInstrumentExchange:
+      return {AlertLevel::kInfo, "Took the " + e.detail + " from the tray"};
     default: break;
   }
   return {};
@@ -87,6 +89,17 @@ HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summa
   hud.target_rate_hz = haptics.target_rate_hz;
   if (haptics.target_rate_hz > 0 && haptics.ticks > 100)
     hud.realtime_factor = haptics.rate_hz / haptics.target_rate_hz;
+
+  // The instrument in hand (tray instruments are named): the first until the hand takes another.
+  const std::vector<InstrumentConfig>& tray = scenario.world.instruments;
+  if (tray.size() > 1) {
+    std::size_t in_hand = 0;
+    for (const Event& e : view.events)
+      if (e.kind == EventKind::kInstrumentExchange && e.value >= 0 && e.value < tray.size())
+        in_hand = static_cast<std::size_t>(e.value);
+    hud.instrument = tray[in_hand].name;
+    hud.tray_size = static_cast<int>(tray.size());
+  }
 
   // Live state first: it is what the trainee must react to now.
   if (view.sample.stale)
@@ -224,6 +237,11 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
   ImGui::SetNextWindowPos(ImVec2(display.x - status_width - margin, margin));
   ImGui::SetNextWindowSize(ImVec2(status_width, 0));
   ImGui::Begin("Status", nullptr, fixed | ImGuiWindowFlags_AlwaysAutoResize);
+  if (!hud.instrument.empty()) {
+    ImGui::TextColored(ui_colors::kInfo, "In hand: %s", hud.instrument.c_str());
+    ImGui::SameLine();
+    ImGui::TextColored(ui_colors::kMuted, "(tray of %d)", hud.tray_size);
+  }
   char text[128];
   if (hud.time_limit_s > 0) {
     const double left = std::max(0.0, hud.time_limit_s - hud.t_s);
@@ -293,6 +311,8 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
     ImGui::TextColored(ui_colors::kInfo, "Instrument (mouse)");
     ImGui::TextUnformatted("Left-drag: move across  |  Wheel or right-drag: depth");
     ImGui::TextUnformatted("Ctrl + left-drag: tilt / roll the cup  |  Space: hold still  |  F: close the jaws");
+    if (hud.tray_size > 1)
+      ImGui::TextUnformatted("T: take the next instrument from the tray (out of the disc)");
     ImGui::TextColored(ui_colors::kMuted,
                        "Camera: middle-drag orbit, Shift + middle-drag pan, Ctrl + wheel zoom");
   } else {

@@ -47,6 +47,10 @@ struct HudModel {
   double target_rate_hz = 0.0;
   /// Simulated seconds per wall second so far (haptic rate / target rate); 0: not known yet.
   double realtime_factor = 0.0;
+  /// The instrument in hand, when the scene's tray holds more than one ("" otherwise), and
+  /// how many the tray holds.
+  std::string instrument;
+  int tray_size = 0;
   bool mouse_mode = false;        ///< the mouse drives the instrument (show the mapping)
   bool stress_view_available = false;  ///< the scene models the bone: offer its stress view
   bool stress_view_on = false;
@@ -54,7 +58,8 @@ struct HudModel {
 };
 
 /// The HUD model of a live view: live state (moment, force, stale input) and events of the
-/// last `recent_s` seconds (zones, overload, clamping, rejected input) become alerts.
+/// last `recent_s` seconds (zones, overload, clamping, rejected input, an instrument taken from
+/// the tray) become alerts; the exchanges also say which instrument is in hand.
 HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summary,
                         const LiveView& view, const HapticLoopStats& haptics,
                         const std::string& input_label, double recent_s = 2.0);

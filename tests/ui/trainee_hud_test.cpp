@@ -324,6 +324,39 @@ TEST(TraineeHud, ScoreScreenNamesTheZoneAndExplainsTheScale) {
 // zone entered with a never-event and its force, another zone close, repeated clamps, the
 // shaft over its warning, slow motion): no text is cut off, no window covers the goal, zones
 // read by their names. The picture is kept as trainee_hud_1280x800.png.
+// Module 02's tray: the HUD says which instrument is in hand (the first until the hand takes
+// another) and announces an exchange for a moment, as information, not as a warning.
+TEST(TraineeHud, TheTraySaysWhichInstrumentIsInHand) {
+  LoadResult loaded =
+      load_scenario_file(std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/02_c4c5_healthy.json");
+  ASSERT_TRUE(loaded.ok()) << to_string(loaded.errors);
+  const ScenarioModel& scenario = *loaded.model;
+  ASSERT_EQ(scenario.world.instruments.size(), 3u);
+  World world(scenario.world);
+  LiveView view;
+  capture_world_state(world, view.state);
+  view.state.frame.t_s = 10.0;
+  HudModel hud = make_hud_model(scenario, world.summary(), view, HapticLoopStats{}, "mouse");
+  EXPECT_EQ(hud.instrument, scenario.world.instruments[0].name);
+  EXPECT_EQ(hud.tray_size, 3);
+  EXPECT_TRUE(hud.alerts.empty());
+  view.events.push_back(Event{9.5, EventKind::kInstrumentExchange, 2.0, "angled rongeur", -1});
+  hud = make_hud_model(scenario, world.summary(), view, HapticLoopStats{}, "mouse");
+  EXPECT_EQ(hud.instrument, "angled rongeur");
+  ASSERT_EQ(hud.alerts.size(), 1u);
+  EXPECT_EQ(hud.alerts[0].level, AlertLevel::kInfo);
+  EXPECT_EQ(hud.alerts[0].text, "Took the angled rongeur from the tray");
+  view.state.frame.t_s = 20.0;  // long after: still in hand, no longer announced
+  hud = make_hud_model(scenario, world.summary(), view, HapticLoopStats{}, "mouse");
+  EXPECT_EQ(hud.instrument, "angled rongeur");
+  EXPECT_TRUE(hud.alerts.empty());
+  // A scene with one instrument says nothing of a tray.
+  const auto box = small_box();
+  World one(box->world);
+  capture_world_state(one, view.state);
+  EXPECT_EQ(make_hud_model(*box, one.summary(), view, HapticLoopStats{}, "mouse").instrument, "");
+}
+
 TEST(TraineeHud, EveryHudLabelFitsAt1280x800) {
   LoadResult loaded =
       load_scenario_file(std::string(ACDR_SOURCE_DIR) + "/scenarios/modules/02_c4c5_healthy.json");
@@ -344,7 +377,8 @@ TEST(TraineeHud, EveryHudLabelFitsAt1280x800) {
                  Event{41.5, EventKind::kZoneForce, 1.4, zones[0].name, 0},
                  Event{41.6, EventKind::kForceClamped, 3.6, "", -1},
                  Event{41.8, EventKind::kForceClamped, 4.9, "", -1},
-                 Event{41.9, EventKind::kOverloadWarning, 0.05, "", -1}};
+                 Event{41.9, EventKind::kOverloadWarning, 0.05, "", -1},
+                 Event{40.5, EventKind::kInstrumentExchange, 2.0, "angled rongeur", -1}};
   HapticLoopStats loop;
   loop.rate_hz = 370;
   loop.target_rate_hz = 1000;
