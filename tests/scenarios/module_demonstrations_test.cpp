@@ -160,7 +160,7 @@ TEST_P(ModuleDemonstrations, EachExpertIsCleanAndPassesAlsoLeftOutOfTheCalibrati
 // The target: an expert takes out at least 80 % of the nucleus. Reached in modules 02 and 04
 // with the rongeurs on their tray and the posterior longitudinal ligament behind the disc
 // (docs/anatomy.md, "The tray's experts"); 03 (stiff gel) still ships cup-only experts at
-// 6-15 %, and joins the list below when its experts reach it.
+// 7-12 %, and joins the list below when its experts reach it.
 class FourFifths : public ModuleDemonstrations {};
 
 TEST_P(FourFifths, EachExpertRemovesAtLeastFourFifthsOfTheNucleus) {
