@@ -130,6 +130,13 @@ std::vector<AnatomyLabel> anatomy_labels(const World& world, AnatomyView view) {
   if (!anterior) {
     labels.push_back({"spinal canal and cord", f3(Vec3(0.0, 0.5 * l.c5_upper_endplate_y_m - 8e-3,
                                                        0.5 * (l.body_back_z_m + l.canal_back_z_m))), 1});
+    // The ligament the disc's particles meet (world.anatomy.posterior_ligament): a point on its
+    // face in its upper part, which the exiting root does not hide from the left.
+    for (const Collider& c : world.static_colliders())
+      if (c.particles_only && c.kind == ColliderKind::kBox)
+        labels.push_back({"posterior longitudinal ligament",
+                          f3(c.pose.position + Vec3(0.0, 0.75 * c.half_extents_m.y(),
+                                                    c.half_extents_m.z())), 1});
   }
   return labels;
 }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "tests/engine/anatomy/coarse_segment_scene.hpp"
@@ -54,6 +55,30 @@ TEST(AnatomyView, CamerasLookFromTheFrontAndTheLeftAndFrameEveryLabel) {
     }
     EXPECT_GT(left, 0);
     EXPECT_GT(right, 0);
+  }
+}
+
+// The posterior longitudinal ligament is named in the lateral picture when the scene has it.
+TEST(AnatomyView, TheLateralPictureNamesTheLigamentWhenTheSceneHasIt) {
+  const std::string cache = (std::filesystem::temp_directory_path() / "acdr_anatomy_view_test").string();
+  auto named = [](const std::vector<AnatomyLabel>& labels) {
+    return std::count_if(labels.begin(), labels.end(), [](const AnatomyLabel& l) {
+      return l.text == "posterior longitudinal ligament";
+    });
+  };
+  WorldConfig config = test::coarse_segment_world(cache);
+  EXPECT_EQ(named(anatomy_labels(World(config), AnatomyView::kLateral)), 0);
+  config.anatomy.posterior_ligament = true;
+  const World world(config);
+  const auto labels = anatomy_labels(world, AnatomyView::kLateral);
+  ASSERT_EQ(named(labels), 1);
+  EXPECT_EQ(named(anatomy_labels(world, AnatomyView::kAnterior)), 0);  // behind the disc
+  const RenderCamera camera = anatomy_camera(*world.anatomy(), AnatomyView::kLateral, 1.6f);
+  for (const AnatomyLabel& label : labels) {
+    if (label.text != "posterior longitudinal ligament") continue;
+    // On the ligament's face, between the bodies, and in the picture.
+    EXPECT_NEAR(label.point_m.z(), world.anatomy()->landmarks().body_back_z_m - 0.5e-3, 1e-6);
+    EXPECT_TRUE(project_to_pixel(camera, 1280, 800, label.point_m).has_value());
   }
 }
 
