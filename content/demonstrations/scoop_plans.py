@@ -761,10 +761,15 @@ def bite_rows(m, g, p, row, out, n, pace):
     release_rows(g, p, row, n, pace, half_len)
 
 
+# The pace of the releases over the tray, if not the plan's (--release-pace): the stiff gel of
+# module 03 wants slow bites, but the way to the tray and back is in the air.
+RELEASE_PACE = None
+
+
 def release_rows(g, p, row, n, pace, half_len, tip_mm=RELEASE_TIP_MM):
     """Over the tray: the tips tip_mm above its floor (what hangs from them touches it), open,
     wait, up, close; each bite in a lane of its own across the tray."""
-    w = [d * pace for d in RELEASE_S]
+    w = [d * (pace if RELEASE_PACE is None else RELEASE_PACE) for d in RELEASE_S]
     lane = ((n * 3) % 19) - 9.0
     tray_hi = p.tray(lane, 0.0, 14.0 + half_len)
     tray_lo = p.tray(lane, 0.0, tip_mm + half_len)
@@ -908,6 +913,7 @@ def plan_files(name, plan, module, module_path, instrument=0):
 
 
 def main():
+    global ANGLED_RELEASE_TIP_MM, RELEASE_PACE
     ap = argparse.ArgumentParser(description="cup-centre plans of the C4-C5 demonstrations")
     ap.add_argument("module", help="module file (scenarios/modules/0[2-4]_*.json)")
     ap.add_argument("plan", nargs="?", help="one plan name (expert_N, novice_KIND)")
@@ -918,7 +924,14 @@ def main():
     ap.add_argument("--pace", type=float, default=0.65, help="the --moves plan's pace (0.65)")
     ap.add_argument("--instrument", type=int, default=0, help="the --moves plan's instrument: "
                     "its place on the module's tray (world.instruments), 0 the first")
+    ap.add_argument("--release-tip-mm", type=float, default=ANGLED_RELEASE_TIP_MM,
+                    help="an angled bite's tips above the tray's floor where the jaws let the "
+                    "bite go (%g)" % ANGLED_RELEASE_TIP_MM)
+    ap.add_argument("--release-pace", type=float, default=None,
+                    help="the pace of the bites' releases over the tray (the plan's pace)")
     args = ap.parse_args()
+    ANGLED_RELEASE_TIP_MM = args.release_tip_mm
+    RELEASE_PACE = args.release_pace
     with open(args.module) as f:
         module = json.load(f)
     try:
