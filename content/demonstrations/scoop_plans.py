@@ -742,7 +742,7 @@ def bite_rows(m, g, p, row, out, n, pace):
             break
         o -= 0.05
     open_grip = round(1.0 - o, 2)
-    b = [d * pace for d in BITE_S]
+    b = carried([d * pace for d in BITE_S], BITE_S, (6, 7))
     rpy = (0, round(pitch, 2), 0)
     tip_window = (x - (z_window + 4.0 - z_tip) * axis[0], y, z_window + 4.0)
     out.append("# bite %d: %s (jaws opened to closure %.2f%s)"
@@ -764,12 +764,25 @@ def bite_rows(m, g, p, row, out, n, pace):
 # The pace of the releases over the tray, if not the plan's (--release-pace): the stiff gel of
 # module 03 wants slow bites, but the way to the tray and back is in the air.
 RELEASE_PACE = None
+# The pace of the rows that carry a bite (out of the disc, up, over the tray and down to it), if
+# not the plan's (--carry-pace): a held bite of module 03's stiff gel carried to the tray at the
+# plan's pace overloaded the shaft (docs/anatomy.md).
+CARRY_PACE = None
+
+
+def carried(b, base, rows):
+    """b with the rows that carry a bite (their indices in base) at CARRY_PACE, if it is set."""
+    if CARRY_PACE is not None:
+        for k in rows:
+            b[k] = base[k] * CARRY_PACE
+    return b
 
 
 def release_rows(g, p, row, n, pace, half_len, tip_mm=RELEASE_TIP_MM):
     """Over the tray: the tips tip_mm above its floor (what hangs from them touches it), open,
     wait, up, close; each bite in a lane of its own across the tray."""
-    w = [d * (pace if RELEASE_PACE is None else RELEASE_PACE) for d in RELEASE_S]
+    w = carried([d * (pace if RELEASE_PACE is None else RELEASE_PACE) for d in RELEASE_S],
+                RELEASE_S, (0, 1))
     lane = ((n * 3) % 19) - 9.0
     tray_hi = p.tray(lane, 0.0, 14.0 + half_len)
     tray_lo = p.tray(lane, 0.0, tip_mm + half_len)
@@ -848,7 +861,7 @@ def angled_bite_rows(m, g, p, row, out, n, pace):
         return (mid[0] + d * shaft[0], y, mid[1] + d * shaft[1])
 
     open_grip = round(1.0 - o, 2)
-    b = [d * pace for d in BITE_S]
+    b = carried([d * pace for d in BITE_S], BITE_S, (6, 7))
     out.append("# angled bite %d: %s (jaws' axis %.1f deg, shaft leaning %.1f deg, yaw %d, "
                "jaws opened to closure %.2f)" % (n, what, axis_deg, lean, yaw, open_grip))
     above = drawn_back(low_open, 4.0)
@@ -913,7 +926,7 @@ def plan_files(name, plan, module, module_path, instrument=0):
 
 
 def main():
-    global ANGLED_RELEASE_TIP_MM, RELEASE_PACE
+    global ANGLED_RELEASE_TIP_MM, RELEASE_PACE, CARRY_PACE
     ap = argparse.ArgumentParser(description="cup-centre plans of the C4-C5 demonstrations")
     ap.add_argument("module", help="module file (scenarios/modules/0[2-4]_*.json)")
     ap.add_argument("plan", nargs="?", help="one plan name (expert_N, novice_KIND)")
@@ -929,9 +942,13 @@ def main():
                     "bite go (%g)" % ANGLED_RELEASE_TIP_MM)
     ap.add_argument("--release-pace", type=float, default=None,
                     help="the pace of the bites' releases over the tray (the plan's pace)")
+    ap.add_argument("--carry-pace", type=float, default=None,
+                    help="the pace at which a bite is carried out of the disc and down to the "
+                    "tray (the plan's, or the releases' there)")
     args = ap.parse_args()
     ANGLED_RELEASE_TIP_MM = args.release_tip_mm
     RELEASE_PACE = args.release_pace
+    CARRY_PACE = args.carry_pace
     with open(args.module) as f:
         module = json.load(f)
     try:
