@@ -46,6 +46,12 @@ places every pass again on the new anatomy.
                                                           # the window and plunged open, on a
                                                           # copy whose rongeur may have angled
                                                           # jaws (jaw_angle_deg; docs/anatomy.md)
+    python3 scoop_plans.py MODULE.json wall --instrument 2 --moves 'A:0.52:0.1:-0.314:-25' \
+        --pace 0.6 --release-tip-mm 6 --release-pace 1.2 --carry-pace 1.5 --write-dir DIR
+                                                          # the same for the tray's third
+                                                          # instrument, the bite let go 6 mm
+                                                          # above the tray floor, released and
+                                                          # carried slower than it is taken
 """
 import argparse
 import json
