@@ -54,6 +54,7 @@ places every pass again on the new anatomy.
                                                           # carried slower than it is taken
 """
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -467,8 +468,9 @@ FRONT_MIDDLE = [A("the middle, upper half, in front", 0, 0.3, 0, 0),
                 A("the front, right", -0.4, 0, 0.3, 0),
                 A("the front, left", 0.4, 0, 0.3, 0)]
 
-# (description, pace, parts): each part (the tray's kind of instrument, its moves) follows the
-# one before, the instrument exchanged in between (join_waypoints.py).
+# (description, pace, parts): each part (the tray's kind of instrument, its moves[, settings])
+# follows the one before, the instrument exchanged in between (join_waypoints.py); settings
+# override the generator's release and carry options for that part (part_settings).
 EXPERTS_TRAY = {
     "expert_1": ("two rounds: the side walls with the angled rongeur, the middle and the back "
                  "with the straight one, then the walls wider and the middle again", 0.5,
@@ -486,6 +488,41 @@ EXPERTS_TRAY = {
     "expert_5": ("unhurried: the walls wide first, the middle, then the walls and the middle",
                  0.6, [("angled", WALL_WIDE), ("rongeur", MIDDLE), ("angled", WALL),
                        ("rongeur", MIDDLE)]),
+}
+
+# In module 03's stiff gel (3,000 Pa*s) the bites themselves are clean at pace 0.6, but a held
+# lump drawn out, carried to the tray and let go overloaded the shaft (docs/anatomy.md, "The
+# tray's experts"): the angled jaws let their bites go 6 mm above the tray floor, the straight
+# jaws 8 mm above it, released at pace 1.2 (1.3) and carried at 1.5 whatever the plan's pace.
+ANGLED_STIFF = {"release_tip_mm": 6.0}
+STRAIGHT_STIFF = {"release_tip_mm": 8.0, "release_pace": 1.2, "carry_pace": 1.5}
+STRAIGHT_STIFF_SLOWER = {"release_tip_mm": 8.0, "release_pace": 1.3, "carry_pace": 1.5}
+MIDDLE_BACK_HALF_OPEN = MIDDLE[:2] + [
+    A("the back, from the right, the jaws opened 0.6", -0.35, 0, -0.3, 0, 0.6),
+    A("the back, from the left, the jaws opened 0.6", 0.35, 0, -0.3, 0, 0.6)]
+WALL_WIDE_LOW_HALF_OPEN = WALL_WIDE[:2] + [
+    A("the left wall, low, the jaws opened 0.6", 0.52, -0.6, -0.314, -25, 0.6),
+    A("the right wall, low, the jaws opened 0.6", -0.52, -0.6, -0.314, 25, 0.6)]
+EXPERTS_VISCOUS_TRAY = {
+    "expert_1": ("two rounds of bites in the stiff gel: the walls, the middle and the back, the "
+                 "walls wider, the middle; each bite carried out and let go slowly", 0.6,
+                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF),
+                  ("angled", WALL_WIDE, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF)]),
+    "expert_2": ("the same two rounds, the straight jaws' bites let go slower still", 0.6,
+                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER),
+                  ("angled", WALL_WIDE, ANGLED_STIFF),
+                  ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER)]),
+    "expert_3": ("the walls and the middle twice, the same walls both times", 0.6,
+                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER),
+                  ("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER)]),
+    "expert_4": ("two rounds, the last bites at the back with the jaws opened only 0.6", 0.6,
+                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF),
+                  ("angled", WALL_WIDE, ANGLED_STIFF),
+                  ("rongeur", MIDDLE_BACK_HALF_OPEN, STRAIGHT_STIFF)]),
+    "expert_5": ("two rounds, the low wall bites of the second with the jaws opened only 0.6",
+                 0.6, [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF),
+                       ("angled", WALL_WIDE_LOW_HALF_OPEN, ANGLED_STIFF),
+                       ("rongeur", MIDDLE, STRAIGHT_STIFF)]),
 }
 
 
@@ -526,8 +563,8 @@ def plans_for(module_path, g):
     if g["nucleus_viscosity_Pa_s"] > VISCOUS_PA_S:
         experts = EXPERTS_VISCOUS
         slow_pace = 2.4  # the experts there work at 1.45-1.55
-    if g["nucleus_viscosity_Pa_s"] <= VISCOUS_PA_S and {"rongeur", "angled"} <= set(g["roles"]):
-        experts = EXPERTS_TRAY
+    if {"rongeur", "angled"} <= set(g["roles"]):
+        experts = EXPERTS_VISCOUS_TRAY if g["nucleus_viscosity_Pa_s"] > VISCOUS_PA_S else EXPERTS_TRAY
     plans = dict(experts)
     plans.update(novices(REFERENCE, g["time_limit_s"], slow_pace))
     return plans
@@ -896,6 +933,24 @@ def header(name, description, g, module_path):
     ]
 
 
+@contextlib.contextmanager
+def part_settings(release_tip_mm=None, release_pace=None, carry_pace=None):
+    """The generator's release and carry options (the command line's --release-tip-mm,
+    --release-pace, --carry-pace) set for one part of a plan, and put back after it."""
+    global ANGLED_RELEASE_TIP_MM, RELEASE_PACE, CARRY_PACE
+    saved = ANGLED_RELEASE_TIP_MM, RELEASE_PACE, CARRY_PACE
+    if release_tip_mm is not None:
+        ANGLED_RELEASE_TIP_MM = release_tip_mm
+    if release_pace is not None:
+        RELEASE_PACE = release_pace
+    if carry_pace is not None:
+        CARRY_PACE = carry_pace
+    try:
+        yield
+    finally:
+        ANGLED_RELEASE_TIP_MM, RELEASE_PACE, CARRY_PACE = saved
+
+
 def is_tray_plan(plan):
     """A plan of parts (EXPERTS_TRAY) rather than of one instrument's moves."""
     moves = plan[2]
@@ -914,12 +969,14 @@ def plan_files(name, plan, module, module_path, instrument=0):
         return lines, c4c5_waypoints.waypoint_lines(lines, g0["grip_mm"], g0["grip_lateral_mm"])
     description, pace, parts = plan
     cup, joined = header(name, description, g0, module_path), []
-    for k, (role, moves) in enumerate(parts):
+    for k, part in enumerate(parts):
+        role, moves = part[0], part[1]
         if role not in g0["roles"]:
             raise ValueError("%s: the module's tray has no %s" % (name, role))
         index = g0["roles"][role]
         g = module_geometry(module, index)
-        _, rows = cup_rows((description, pace, moves), g)
+        with part_settings(**(part[2] if len(part) > 2 else {})):
+            _, rows = cup_rows((description, pace, moves), g)
         cup.append("# part %d: the %s (instrument %d)" % (k + 1, role, index))
         cup.extend(rows)
         joined.append(("%s part %d, the %s" % (name, k + 1, role),
