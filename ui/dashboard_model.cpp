@@ -74,18 +74,9 @@ double AttemptDrillDown::opening_t_s() const {
   return 0.6 * duration_s;
 }
 
-int ReplayGeometry::instrument_in_hand(double t_s) const {
-  int in_hand = 0;
-  for (const auto& [t, index] : exchanges) {
-    if (t > t_s) break;
-    in_hand = index;
-  }
-  return in_hand;
-}
-
 void ReplayGeometry::instrument_at(const Pose& grip, double t_s, std::vector<Collider>& out) const {
   out.clear();
-  const int k = instrument_in_hand(t_s);
+  const int k = instrument_in_hand(exchanges, t_s);
   if (k < 0 || k >= static_cast<int>(tray.size())) return;
   const std::vector<Collider>& local = tray[static_cast<std::size_t>(k)];
   out.resize(local.size());
@@ -236,7 +227,7 @@ std::unique_ptr<AttemptDrillDown> load_drill_down(Database& db, std::int64_t id,
   for (const Frame& f : r.frames) d->replay.bounds.extend(f.tip_m);
   for (const Event& e : r.events)
     if (e.kind == EventKind::kInstrumentExchange)
-      d->replay.exchanges.emplace_back(e.t_s, static_cast<int>(e.value));
+      d->replay.exchanges.push_back(e);
   if (scenario && scenario->bone.enabled) {
     // The stresses come from the recorded loads; the scale from the attempt's endplate peak.
     d->bone_stress = BoneStressPane::create(*scenario, r, &d->bone_stress_note);

@@ -10,7 +10,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "app/score_table.hpp"
@@ -60,17 +59,14 @@ struct ReplayGeometry {
   /// Each instrument on the scene's tray (one for a single instrument): its colliders in its
   /// grip frame; empty: no instrument.
   std::vector<std::vector<Collider>> tray;
-  /// When the hand took another instrument (the recording's instrument_exchange events, in time
-  /// order): (t_s, its place on the tray). Before the first, the tray's first is in hand.
-  std::vector<std::pair<double, int>> exchanges;
+  /// The recording's instrument exchanges, in time order (instrument_in_hand reads them).
+  std::vector<Event> exchanges;
   /// The vertebrae's outlines in the two replay views (x-y from above, x-z along the spine);
   /// empty in scenes without anatomy.
   MeshSilhouette bone_top, bone_side;
   std::string bone_note;  ///< why the vertebrae are not shown, when the scene has them but they could not be loaded
   Eigen::AlignedBox3d bounds;        ///< the walls and every recorded tip position (m)
 
-  /// The place on the tray of the instrument in hand at t_s.
-  int instrument_in_hand(double t_s) const;
   /// The colliders of the instrument in hand at t_s with its grip at `grip` (world frame), into
   /// `out` (empty without an instrument).
   void instrument_at(const Pose& grip, double t_s, std::vector<Collider>& out) const;

@@ -93,11 +93,9 @@ HudModel make_hud_model(const ScenarioModel& scenario, const WorldSummary& summa
   // The instrument in hand (tray instruments are named): the first until the hand takes another.
   const std::vector<InstrumentConfig>& tray = scenario.world.instruments;
   if (tray.size() > 1) {
-    std::size_t in_hand = 0;
-    for (const Event& e : view.events)
-      if (e.kind == EventKind::kInstrumentExchange && e.value >= 0 && e.value < tray.size())
-        in_hand = static_cast<std::size_t>(e.value);
-    hud.instrument = tray[in_hand].name;
+    const int in_hand = instrument_in_hand(view.events, f.t_s);
+    if (in_hand >= 0 && in_hand < static_cast<int>(tray.size()))
+      hud.instrument = tray[static_cast<std::size_t>(in_hand)].name;
     hud.tray_size = static_cast<int>(tray.size());
   }
 

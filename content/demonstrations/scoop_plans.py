@@ -443,8 +443,8 @@ VISCOUS_PA_S = 1000.0  # a target gel above this gets EXPERTS_VISCOUS
 # nucleus out in rounds (docs/anatomy.md, "The tray's experts"), each round the same four kinds
 # of bite:
 # - the angled jaws opened above the window and slid in open along each side wall, in the upper
-#   and the lower half (WALL), or higher and lower still (WALL_WIDE, WALL_WIDE_DEEP: the tips
-#   further back); they take the sides the straight jaws cannot reach through the window;
+#   and the lower half (WALL), or higher and lower still (WALL_WIDE; WALL_WIDE_FRONT with the
+#   tips further forward); they take the sides the straight jaws cannot reach through the window;
 # - the straight jaws down the middle, in the upper and the lower half, and across the back from
 #   each side (MIDDLE), or in front (FRONT_MIDDLE).
 WALL = [A("the left wall, upper half", 0.52, 0.1, -0.314, -25),
@@ -468,26 +468,30 @@ FRONT_MIDDLE = [A("the middle, upper half, in front", 0, 0.3, 0, 0),
                 A("the front, right", -0.4, 0, 0.3, 0),
                 A("the front, left", 0.4, 0, 0.3, 0)]
 
+
+
+def bite_round(wall, middle, angled=None, straight=None):
+    """One round of bites: the angled jaws along the side walls, then the straight jaws down the
+    middle; `angled` and `straight` the two parts' settings (part_settings), if any."""
+    return [("angled", wall, angled or {}), ("rongeur", middle, straight or {})]
+
+
 # (description, pace, parts): each part (the tray's kind of instrument, its moves[, settings])
 # follows the one before, the instrument exchanged in between (join_waypoints.py); settings
 # override the generator's release and carry options for that part (part_settings).
 EXPERTS_TRAY = {
     "expert_1": ("two rounds: the side walls with the angled rongeur, the middle and the back "
                  "with the straight one, then the walls wider and the middle again", 0.5,
-                 [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL_WIDE),
-                  ("rongeur", MIDDLE)]),
+                 bite_round(WALL, MIDDLE) + bite_round(WALL_WIDE, MIDDLE)),
     "expert_2": ("two rounds, the second round's wall bites further forward, a little slower",
-                 0.55, [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL_WIDE_FRONT),
-                        ("rongeur", MIDDLE)]),
+                 0.55, bite_round(WALL, MIDDLE) + bite_round(WALL_WIDE_FRONT, MIDDLE)),
     "expert_3": ("brisk: the walls and the middle twice, then the walls wider", 0.45,
-                 [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL), ("rongeur", MIDDLE),
-                  ("angled", WALL_WIDE)]),
+                 bite_round(WALL, MIDDLE) * 2 + [("angled", WALL_WIDE)]),
     "expert_4": ("brisk: two rounds, then the front of the middle", 0.45,
-                 [("angled", WALL), ("rongeur", MIDDLE), ("angled", WALL_WIDE),
-                  ("rongeur", MIDDLE), ("rongeur", FRONT_MIDDLE)]),
+                 bite_round(WALL, MIDDLE) + bite_round(WALL_WIDE, MIDDLE)
+                 + [("rongeur", FRONT_MIDDLE)]),
     "expert_5": ("unhurried: the walls wide first, the middle, then the walls and the middle",
-                 0.6, [("angled", WALL_WIDE), ("rongeur", MIDDLE), ("angled", WALL),
-                       ("rongeur", MIDDLE)]),
+                 0.6, bite_round(WALL_WIDE, MIDDLE) + bite_round(WALL, MIDDLE)),
 }
 
 # In module 03's stiff gel (3,000 Pa*s) the bites themselves are clean at pace 0.6, but a held
@@ -503,26 +507,26 @@ MIDDLE_BACK_HALF_OPEN = MIDDLE[:2] + [
 WALL_WIDE_LOW_HALF_OPEN = WALL_WIDE[:2] + [
     A("the left wall, low, the jaws opened 0.6", 0.52, -0.6, -0.314, -25, 0.6),
     A("the right wall, low, the jaws opened 0.6", -0.52, -0.6, -0.314, 25, 0.6)]
+
+
+def stiff_round(wall, middle, straight=STRAIGHT_STIFF):
+    """A round of bites in the stiff gel, each carried out and let go slowly."""
+    return bite_round(wall, middle, ANGLED_STIFF, straight)
+
+
 EXPERTS_VISCOUS_TRAY = {
     "expert_1": ("two rounds of bites in the stiff gel: the walls, the middle and the back, the "
                  "walls wider, the middle; each bite carried out and let go slowly", 0.6,
-                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF),
-                  ("angled", WALL_WIDE, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF)]),
+                 stiff_round(WALL, MIDDLE) + stiff_round(WALL_WIDE, MIDDLE)),
     "expert_2": ("the same two rounds, the straight jaws' bites let go slower still", 0.6,
-                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER),
-                  ("angled", WALL_WIDE, ANGLED_STIFF),
-                  ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER)]),
+                 stiff_round(WALL, MIDDLE, STRAIGHT_STIFF_SLOWER)
+                 + stiff_round(WALL_WIDE, MIDDLE, STRAIGHT_STIFF_SLOWER)),
     "expert_3": ("the walls and the middle twice, the same walls both times", 0.6,
-                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER),
-                  ("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF_SLOWER)]),
+                 stiff_round(WALL, MIDDLE, STRAIGHT_STIFF_SLOWER) * 2),
     "expert_4": ("two rounds, the last bites at the back with the jaws opened only 0.6", 0.6,
-                 [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF),
-                  ("angled", WALL_WIDE, ANGLED_STIFF),
-                  ("rongeur", MIDDLE_BACK_HALF_OPEN, STRAIGHT_STIFF)]),
+                 stiff_round(WALL, MIDDLE) + stiff_round(WALL_WIDE, MIDDLE_BACK_HALF_OPEN)),
     "expert_5": ("two rounds, the low wall bites of the second with the jaws opened only 0.6",
-                 0.6, [("angled", WALL, ANGLED_STIFF), ("rongeur", MIDDLE, STRAIGHT_STIFF),
-                       ("angled", WALL_WIDE_LOW_HALF_OPEN, ANGLED_STIFF),
-                       ("rongeur", MIDDLE, STRAIGHT_STIFF)]),
+                 0.6, stiff_round(WALL, MIDDLE) + stiff_round(WALL_WIDE_LOW_HALF_OPEN, MIDDLE)),
 }
 
 
@@ -989,7 +993,6 @@ def plan_files(name, plan, module, module_path, instrument=0):
 
 
 def main():
-    global ANGLED_RELEASE_TIP_MM, RELEASE_PACE, CARRY_PACE
     ap = argparse.ArgumentParser(description="cup-centre plans of the C4-C5 demonstrations")
     ap.add_argument("module", help="module file (scenarios/modules/0[2-4]_*.json)")
     ap.add_argument("plan", nargs="?", help="one plan name (expert_N, novice_KIND)")
@@ -1000,7 +1003,7 @@ def main():
     ap.add_argument("--pace", type=float, default=0.65, help="the --moves plan's pace (0.65)")
     ap.add_argument("--instrument", type=int, default=0, help="the --moves plan's instrument: "
                     "its place on the module's tray (world.instruments), 0 the first")
-    ap.add_argument("--release-tip-mm", type=float, default=ANGLED_RELEASE_TIP_MM,
+    ap.add_argument("--release-tip-mm", type=float, default=None,
                     help="an angled bite's tips above the tray's floor where the jaws let the "
                     "bite go (%g)" % ANGLED_RELEASE_TIP_MM)
     ap.add_argument("--release-pace", type=float, default=None,
@@ -1009,13 +1012,11 @@ def main():
                     help="the pace at which a bite is carried out of the disc and down to the "
                     "tray (the plan's, or the releases' there)")
     args = ap.parse_args()
-    ANGLED_RELEASE_TIP_MM = args.release_tip_mm
-    RELEASE_PACE = args.release_pace
-    CARRY_PACE = args.carry_pace
     with open(args.module) as f:
         module = json.load(f)
+    instrument = args.instrument if args.moves is not None else 0
     try:
-        g = module_geometry(module, args.instrument if args.moves is not None else 0)
+        g = module_geometry(module, instrument)
     except ValueError as e:
         sys.stderr.write("%s\n" % e)
         return 2
@@ -1033,7 +1034,6 @@ def main():
         for name, plan in plans.items():
             print("%-14s %s" % (name, plan[0]))
         return 0
-    instrument = args.instrument if args.moves is not None else 0
     names = list(plans) if args.write_dir else [args.plan]
     if not args.write_dir and args.plan not in plans:
         sys.stderr.write("%s: no plan '%s' (expected one of %s)\n"
@@ -1041,7 +1041,8 @@ def main():
         return 2
     for name in names:
         try:
-            cup, waypoints = plan_files(name, plans[name], module, args.module, instrument)
+            with part_settings(args.release_tip_mm, args.release_pace, args.carry_pace):
+                cup, waypoints = plan_files(name, plans[name], module, args.module, instrument)
         except ValueError as e:  # a move the anatomy does not allow (an angled bite's shaft)
             sys.stderr.write("%s\n" % e)
             return 2

@@ -22,4 +22,13 @@ const char* event_kind_name(EventKind kind) {
   return "unknown";
 }
 
+int instrument_in_hand(std::span<const Event> events, double t_s) {
+  int in_hand = 0;
+  for (const Event& e : events) {
+    if (e.t_s > t_s) break;
+    if (e.kind == EventKind::kInstrumentExchange) in_hand = static_cast<int>(e.value);
+  }
+  return in_hand;
+}
+
 }  // namespace acdr

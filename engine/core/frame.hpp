@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "engine/core/types.hpp"
@@ -73,5 +74,9 @@ struct Event {
   std::string detail;
   std::int32_t zone = -1;  ///< zone index for zone events, else -1
 };
+
+/// The place on the tray of the instrument in hand at t_s after `events` (in time order): that
+/// of the last instrument exchange at or before t_s; 0, the tray's first, before any.
+int instrument_in_hand(std::span<const Event> events, double t_s);
 
 }  // namespace acdr

@@ -240,9 +240,9 @@ TEST(DashboardModelTray, TheReplayDrawsTheInstrumentInHand) {
   ASSERT_TRUE(d) << error;
   ASSERT_EQ(d->replay.tray.size(), 2u);
   ASSERT_EQ(d->replay.exchanges.size(), 1u);
-  EXPECT_NEAR(d->replay.exchanges[0].first, 0.5, 0.02);
-  EXPECT_EQ(d->replay.instrument_in_hand(0.2), 0);
-  EXPECT_EQ(d->replay.instrument_in_hand(1.0), 1);
+  EXPECT_NEAR(d->replay.exchanges[0].t_s, 0.5, 0.02);
+  EXPECT_EQ(instrument_in_hand(d->replay.exchanges, 0.2), 0);
+  EXPECT_EQ(instrument_in_hand(d->replay.exchanges, 1.0), 1);
   LoadResult loaded = load_scenario_file(scenario);
   ASSERT_TRUE(loaded.ok());
   const Pose grip = d->recording->frames.back().instrument;
