@@ -101,10 +101,7 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
   const double R2 = model.radius * model.radius;
   const std::size_t scratch = rows.scratch_j.size();
   std::array<std::int32_t, 7> count{};
-  rows.grid.for_each_near(xi, [&](std::int32_t j, const Vec3& xj) {
-    if (j == i) return;
-    const double r2 = min_image(model, xj - xi).squaredNorm();
-    if (!(r2 < reach2)) return;
+  auto keep = [&](std::int32_t j, double r2) {
     if (rows.used >= cap) {
       overflow = true;
       return;
@@ -119,7 +116,18 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
     rows.j[rows.used] = j;
     rows.bond[rows.used] = rows.partner_bond[j];
     ++rows.used;
-  });
+  };
+  if (model.periodic) {
+    rows.grid.for_each_near(xi, [&](std::int32_t j, const Vec3& xj) {
+      if (j == i) return;
+      const double r2 = min_image(model, xj - xi).squaredNorm();
+      if (r2 < reach2) keep(j, r2);
+    });
+  } else {
+    rows.grid.for_each_within(xi, reach2, [&](std::int32_t j, double r2) {
+      if (j != i) keep(j, r2);
+    });
+  }
   for (std::int32_t k = model.bonds.adj_start[i]; k < model.bonds.adj_start[i + 1]; ++k) {
     const std::int32_t b = model.bonds.adj[k];
     rows.partner_bond[model.bonds.other(b, i)] = -1;

@@ -14,6 +14,9 @@ void ParticleGrid::reserve(std::size_t capacity) {
   start_.assign(max_cells_ + 1, 0);
   sorted_.assign(capacity, 0);
   xs_.assign(capacity, Vec3::Zero());
+  xx_.assign(capacity, 0.0);
+  xy_.assign(capacity, 0.0);
+  xz_.assign(capacity, 0.0);
   cell_of_.assign(capacity, 0);
 }
 
@@ -80,6 +83,9 @@ void ParticleGrid::build(std::span<const Vec3> x, double cell_m,
     const std::uint32_t k = start_[cell_of_[i]]++;
     sorted_[k] = static_cast<std::int32_t>(i);
     xs_[k] = x[i];
+    xx_[k] = x[i].x();
+    xy_[k] = x[i].y();
+    xz_[k] = x[i].z();
   }
   for (std::size_t c = cells_; c > 0; --c) start_[c] = start_[c - 1];
   start_[0] = 0;

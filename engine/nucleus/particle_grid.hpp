@@ -14,6 +14,8 @@
 #include <span>
 #include <vector>
 
+#include <immintrin.h>
+
 #include "engine/core/types.hpp"
 
 namespace acdr {
@@ -28,42 +30,68 @@ class ParticleGrid {
   void build(std::span<const Vec3> x, double cell_m, const std::array<bool, 3>& periodic,
              const Vec3& pmin, const Vec3& pmax);
 
-  /// Calls f(j, x_j) for every particle j in the 27 cells around point p (p's own cell
+  /// Calls f(j, x_j) for every particle j in the 27 cells around p (p's own cell
   /// included; each particle once). x_j is the position given to build().
   template <class F>
   void for_each_near(const Vec3& p, F&& f) const {
-    std::array<std::int32_t, 3> c;
-    for (int a = 0; a < 3; ++a) c[a] = coord(p[a], a);
-    std::array<std::int32_t, 3> lo, hi;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = c[a] - 1;
-      hi[a] = c[a] + 1;
-      if (periodic_[a]) {
-        if (count_[a] < 3) {  // offsets would wrap onto the same cell: each cell once
-          lo[a] = 0;
-          hi[a] = count_[a] - 1;
+    for_each_run_near(p, [&](std::uint32_t first, std::uint32_t end) {
+      for (std::uint32_t k = first; k < end; ++k) f(sorted_[k], xs_[k]);
+    });
+  }
+
+  /// Calls f(j, r2) for every particle j in the 27 cells around p whose squared distance
+  /// r2 from p is below r2_max, in the order for_each_near visits them. r2 is summed as
+  /// (dx^2 + dy^2) + dz^2, the order of a Vec3's squaredNorm(), so it has the same bits as
+  /// (x_j - p).squaredNorm(); four candidates are tested at a time (two on the baseline
+  /// path). Grids without periodic axes only (the distance is not the minimum image).
+  template <class F>
+  void for_each_within(const Vec3& p, double r2_max, F&& f) const {
+    const double* X = xx_.data();
+    const double* Y = xy_.data();
+    const double* Z = xz_.data();
+    for_each_run_near(p, [&](std::uint32_t first, std::uint32_t end) {
+      std::uint32_t k = first;
+#if defined(__AVX__)
+      const __m256d px = _mm256_set1_pd(p.x()), py = _mm256_set1_pd(p.y()),
+                    pz = _mm256_set1_pd(p.z()), lim = _mm256_set1_pd(r2_max);
+      for (; k + 4 <= end; k += 4) {
+        const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(X + k), px);
+        const __m256d dy = _mm256_sub_pd(_mm256_loadu_pd(Y + k), py);
+        const __m256d dz = _mm256_sub_pd(_mm256_loadu_pd(Z + k), pz);
+        const __m256d r2 = _mm256_add_pd(
+            _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+        unsigned m = static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(r2, lim, _CMP_LT_OQ)));
+        if (m == 0) continue;
+        alignas(32) double r[4];
+        _mm256_store_pd(r, r2);
+        for (; m != 0; m &= m - 1) {
+          const unsigned b = static_cast<unsigned>(__builtin_ctz(m));
+          f(sorted_[k + b], r[b]);
         }
-      } else {
-        lo[a] = lo[a] < 0 ? 0 : lo[a];
-        hi[a] = hi[a] >= count_[a] ? count_[a] - 1 : hi[a];
       }
-    }
-    for (std::int32_t z = lo[2]; z <= hi[2]; ++z) {
-      const std::int32_t zz = wrap(z, 2);
-      for (std::int32_t y = lo[1]; y <= hi[1]; ++y) {
-        const std::int32_t yy = wrap(y, 1);
-        const std::uint32_t row = (static_cast<std::uint32_t>(zz) * count_[1] + yy) * count_[0];
-        if (!periodic_[0] || count_[0] < 3) {
-          run(row + lo[0], row + hi[0], f);
-        } else {
-          // Up to two runs when the x offsets wrap around the periodic box.
-          for (std::int32_t x = lo[0]; x <= hi[0]; ++x) {
-            const std::uint32_t cell = row + wrap(x, 0);
-            run(cell, cell, f);
-          }
-        }
+#else
+      const __m128d px = _mm_set1_pd(p.x()), py = _mm_set1_pd(p.y()), pz = _mm_set1_pd(p.z()),
+                    lim = _mm_set1_pd(r2_max);
+      for (; k + 2 <= end; k += 2) {
+        const __m128d dx = _mm_sub_pd(_mm_loadu_pd(X + k), px);
+        const __m128d dy = _mm_sub_pd(_mm_loadu_pd(Y + k), py);
+        const __m128d dz = _mm_sub_pd(_mm_loadu_pd(Z + k), pz);
+        const __m128d r2 =
+            _mm_add_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)), _mm_mul_pd(dz, dz));
+        const int m = _mm_movemask_pd(_mm_cmplt_pd(r2, lim));
+        if (m == 0) continue;
+        alignas(16) double r[2];
+        _mm_store_pd(r, r2);
+        if (m & 1) f(sorted_[k], r[0]);
+        if (m & 2) f(sorted_[k + 1], r[1]);
       }
-    }
+#endif
+      for (; k < end; ++k) {
+        const double dx = X[k] - p.x(), dy = Y[k] - p.y(), dz = Z[k] - p.z();
+        const double r2 = (dx * dx + dy * dy) + dz * dz;
+        if (r2 < r2_max) f(sorted_[k], r2);
+      }
+    });
   }
 
   /// Calls f(j, x_j) for every particle in the cells overlapping the box [lo, hi] (a superset
@@ -95,6 +123,43 @@ class ParticleGrid {
     const std::uint32_t end = start_[last_cell + 1];
     for (std::uint32_t k = start_[first_cell]; k < end; ++k) f(sorted_[k], xs_[k]);
   }
+  // Calls g(first, end) for each run of sorted entries [first, end) in the 27 cells around
+  // p, in z, y, x order of the cells (9 runs, more where a periodic x axis wraps).
+  template <class G>
+  void for_each_run_near(const Vec3& p, G&& g) const {
+    std::array<std::int32_t, 3> c;
+    for (int a = 0; a < 3; ++a) c[a] = coord(p[a], a);
+    std::array<std::int32_t, 3> lo, hi;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = c[a] - 1;
+      hi[a] = c[a] + 1;
+      if (periodic_[a]) {
+        if (count_[a] < 3) {  // offsets would wrap onto the same cell: each cell once
+          lo[a] = 0;
+          hi[a] = count_[a] - 1;
+        }
+      } else {
+        lo[a] = lo[a] < 0 ? 0 : lo[a];
+        hi[a] = hi[a] >= count_[a] ? count_[a] - 1 : hi[a];
+      }
+    }
+    for (std::int32_t z = lo[2]; z <= hi[2]; ++z) {
+      const std::int32_t zz = wrap(z, 2);
+      for (std::int32_t y = lo[1]; y <= hi[1]; ++y) {
+        const std::int32_t yy = wrap(y, 1);
+        const std::uint32_t row = (static_cast<std::uint32_t>(zz) * count_[1] + yy) * count_[0];
+        if (!periodic_[0] || count_[0] < 3) {
+          g(start_[row + lo[0]], start_[row + hi[0] + 1]);
+        } else {
+          // Up to two runs when the x offsets wrap around the periodic box.
+          for (std::int32_t x = lo[0]; x <= hi[0]; ++x) {
+            const std::uint32_t cell = row + wrap(x, 0);
+            g(start_[cell], start_[cell + 1]);
+          }
+        }
+      }
+    }
+  }
   std::int32_t coord(double v, int a) const {
     const double u = (v - origin_[a]) * inv_edge_[a];
     // Non-finite positions (a blow-up being reported) land in cell 0, never UB.
@@ -121,6 +186,7 @@ class ParticleGrid {
   std::vector<std::uint32_t> start_;     // cells + 1, offsets into sorted_
   std::vector<std::int32_t> sorted_;     // N, particle indices by cell
   std::vector<Vec3> xs_;                 // N, their positions
+  std::vector<double> xx_, xy_, xz_;     // N, the same positions by coordinate
   std::vector<std::uint32_t> cell_of_;   // N, scratch
 };
 
