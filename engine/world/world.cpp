@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <span>
 
@@ -115,7 +116,15 @@ World::World(const WorldConfig& config)
     instrument_->world_colliders(config_.instrument_start, Vec3::Zero(), Vec3::Zero(), moving_);
   }
   reactions_.resize(1);
-  events_.reserve(4096);
+  // An event's text is a zone's or an instrument's name or one of the step's own messages
+  // (all under 64 characters): every slot keeps room for the longest, so emitting allocates
+  // nothing.
+  std::size_t text = 64;
+  if (anatomy_)
+    for (const DangerZone& z : anatomy_->zones()) text = std::max(text, z.name.size());
+  for (const InstrumentGeometry& g : tray_) text = std::max(text, g.config().name.size());
+  events_.resize(kMaxPendingEvents);
+  for (Event& e : events_) e.detail.reserve(text);
   last_target_orientation_ = config_.instrument_start.orientation;
 
   summary_.dt_s = config_.solver.dt_s;
@@ -551,8 +560,16 @@ void World::sample_bone_loads() {
   }
 }
 
+// Into the next free slot (none left: dropped until the next drain). The text fits the
+// slot's reserve (see the constructor); one that did not would be cut, not allocated.
 void World::emit(EventKind kind, double value, const char* detail) {
-  if (events_.size() < events_.capacity()) events_.push_back(Event{t_, kind, value, detail});
+  if (pending_events_ >= events_.size()) return;
+  Event& e = events_[pending_events_++];
+  e.t_s = t_;
+  e.kind = kind;
+  e.value = value;
+  e.zone = -1;
+  e.detail.assign(detail, std::min(std::strlen(detail), e.detail.capacity()));
 }
 
 // Distances from the instrument (at its new pose, in moving_) to every zone, into the frame;
@@ -570,9 +587,9 @@ void World::evaluate_zones_and_emit(const Vec3& tissue_force_N) {
                        s.warning};
     const bool over = s.warning && s.force_N > z.force_limit_N;
     auto zone_event = [&](EventKind kind, double value) {
-      const std::size_t before = events_.size();
+      const std::size_t before = pending_events_;
       emit(kind, value, z.name.c_str());
-      if (events_.size() > before) events_.back().zone = static_cast<std::int32_t>(i);
+      if (pending_events_ > before) events_[before].zone = static_cast<std::int32_t>(i);
     };
     if (s.warning && !zone_warn_active_[i]) zone_event(EventKind::kZoneWarning, s.distance_m);
     if (s.inside && !zone_inside_active_[i]) {
@@ -587,8 +604,9 @@ void World::evaluate_zones_and_emit(const Vec3& tissue_force_N) {
 }
 
 void World::drain_events(std::vector<Event>& out) {
-  out.insert(out.end(), events_.begin(), events_.end());
-  events_.clear();
+  out.insert(out.end(), events_.begin(),
+             events_.begin() + static_cast<std::ptrdiff_t>(pending_events_));
+  pending_events_ = 0;
 }
 
 bool World::is_removed(std::size_t i) const {

@@ -62,6 +62,9 @@ struct WorldSummary {
   std::vector<Zone> zones;
 };
 
+/// Events a world holds between two drain_events() calls; later ones are dropped.
+inline constexpr std::size_t kMaxPendingEvents = 4096;
+
 class World {
  public:
   explicit World(const WorldConfig& config);
@@ -149,7 +152,10 @@ class World {
 
   std::vector<Collider> moving_;        // instrument colliders, world frame (capacity fixed)
   std::vector<BodyReaction> reactions_; // one per moving body
-  std::vector<Event> events_;           // pending, capacity reserved
+  // Event slots (kMaxPendingEvents), [0, pending_events_) pending; each slot's text keeps
+  // room for the longest text the world can emit, so emitting allocates nothing.
+  std::vector<Event> events_;
+  std::size_t pending_events_ = 0;
   Frame frame_;
   StageTimes times_;
   double t_ = 0.0;

@@ -4,6 +4,9 @@
 // world, Bullet's first contact manifolds) are allowed; none after.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 #include "engine/world/world.hpp"
 #include "tests/support/counting_allocator.hpp"
 
@@ -83,13 +86,14 @@ TEST(WorldAllocation, RongeurBiteAllocatesNothing) {
 
 // An exchange within the attempt: the blade scoops, goes out, the hand takes the rongeur, which
 // bites, opens outside the disc (the shed load slides off) and gives the blade back. The
-// shapes were built with the world: the exchanges allocate nothing.
+// shapes were built with the world, and the events name the instruments in full (names longer
+// than a string keeps in place): the exchanges allocate nothing.
 TEST(WorldAllocation, InstrumentExchangeAllocatesNothing) {
   WorldConfig c = small_box();
   InstrumentConfig blade = c.instrument;
-  blade.name = "blade";
+  blade.name = "cup curette, 3 mm";
   InstrumentConfig rongeur = c.instrument;
-  rongeur.name = "rongeur";
+  rongeur.name = "straight pituitary rongeur";
   rongeur.shape = InstrumentShape::kRongeur;
   rongeur.jaw_length_m = 6e-3;
   c.instruments = {blade, rongeur};
@@ -116,11 +120,37 @@ TEST(WorldAllocation, InstrumentExchangeAllocatesNothing) {
   ASSERT_FALSE(w.failed());
   std::vector<Event> events;
   w.drain_events(events);
-  int exchanges = 0;
-  for (const Event& e : events) exchanges += e.kind == EventKind::kInstrumentExchange;
-  EXPECT_EQ(exchanges, 2);  // to the rongeur and back
+  std::vector<std::string> exchanges;
+  for (const Event& e : events)
+    if (e.kind == EventKind::kInstrumentExchange) exchanges.push_back(e.detail);
+  EXPECT_EQ(exchanges, (std::vector<std::string>{"straight pituitary rongeur",
+                                                 "cup curette, 3 mm"}));  // there and back
   EXPECT_EQ(w.instrument_index(), 0);
   EXPECT_GT(w.last_frame().removed_target, 0);
+  EXPECT_EQ(during, 0) << "heap allocations inside World::step";
+}
+
+// The device goes silent, comes back, then jumps: the events' texts ("device silent: force
+// zeroed", "pose jump") are copied into slots made at build, not allocated.
+TEST(WorldAllocation, EventsAllocateNothing) {
+  World w(small_box());
+  DeviceSample s;
+  s.pose.position = Vec3(-2e-3, 0, 0.057);
+  for (int i = 0; i < 60; ++i) w.step(s);
+  const long before = test_support::heap_allocations();
+  for (int i = 0; i < 300; ++i) {
+    s.stale = i >= 50 && i < 100;
+    s.silence_s = s.stale ? (i - 49) * 1e-3 : 0.0;
+    if (i == 200) s.pose.position.x() += 0.05;  // a 50 mm jump for one sample: rejected
+    if (i == 201) s.pose.position.x() -= 0.05;
+    w.step(s);
+  }
+  const long during = test_support::heap_allocations() - before;
+  std::vector<Event> events;
+  w.drain_events(events);
+  std::vector<std::string> texts;
+  for (const Event& e : events) texts.push_back(e.detail);
+  EXPECT_EQ(texts, (std::vector<std::string>{"device silent: force zeroed", "pose jump"}));
   EXPECT_EQ(during, 0) << "heap allocations inside World::step";
 }
 
