@@ -34,12 +34,19 @@ WorldConfig small_box() {
   return c;
 }
 
+/// A sample holding the instrument at `at` (asking for `instrument`), after 60 steps there:
+/// the world settles and Bullet builds its contact state (allocations allowed).
+DeviceSample settle(World& w, const Vec3& at, int instrument = -1) {
+  DeviceSample s;
+  s.pose.position = at;
+  s.instrument = instrument;
+  for (int i = 0; i < 60; ++i) w.step(s);
+  return s;
+}
+
 TEST(WorldAllocation, StepAllocatesNothing) {
   World w(small_box());
-  DeviceSample s;
-  s.pose.position = Vec3(-2e-3, 0, 0.057);
-  // Warm-up: settle, let Bullet build its contact state.
-  for (int i = 0; i < 60; ++i) w.step(s);
+  DeviceSample s = settle(w, Vec3(-2e-3, 0, 0.057));
   const long before = test_support::heap_allocations();
   // Down into the material, then a drag along x and up out of it.
   for (int i = 0; i < 600; ++i) {
@@ -65,9 +72,7 @@ TEST(WorldAllocation, RongeurBiteAllocatesNothing) {
   c.instrument.jaw_length_m = 6e-3;
   c.instrument_start.position = Vec3(0, 0, 0.07);
   World w(c);
-  DeviceSample s;
-  s.pose.position = Vec3(0, 0, 0.07);
-  for (int i = 0; i < 60; ++i) w.step(s);
+  DeviceSample s = settle(w, Vec3(0, 0, 0.07));
   const long before = test_support::heap_allocations();
   for (int i = 0; i < 1200; ++i) {
     const double t = i * 1e-3;
@@ -99,10 +104,7 @@ TEST(WorldAllocation, InstrumentExchangeAllocatesNothing) {
   c.instruments = {blade, rongeur};
   c.instrument_start.position = Vec3(0, 0, 0.07);
   World w(c);
-  DeviceSample s;
-  s.pose.position = Vec3(0, 0, 0.07);
-  s.instrument = 0;
-  for (int i = 0; i < 60; ++i) w.step(s);
+  DeviceSample s = settle(w, Vec3(0, 0, 0.07), 0);
   const long before = test_support::heap_allocations();
   for (int i = 0; i < 2400; ++i) {
     const double t = i * 1e-3;
@@ -134,9 +136,7 @@ TEST(WorldAllocation, InstrumentExchangeAllocatesNothing) {
 // zeroed", "pose jump") are copied into slots made at build, not allocated.
 TEST(WorldAllocation, EventsAllocateNothing) {
   World w(small_box());
-  DeviceSample s;
-  s.pose.position = Vec3(-2e-3, 0, 0.057);
-  for (int i = 0; i < 60; ++i) w.step(s);
+  DeviceSample s = settle(w, Vec3(-2e-3, 0, 0.057));
   const long before = test_support::heap_allocations();
   for (int i = 0; i < 300; ++i) {
     s.stale = i >= 50 && i < 100;
