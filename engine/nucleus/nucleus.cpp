@@ -266,6 +266,10 @@ double Nucleus::mechanical_energy_J() const {
   return e;
 }
 
+void Nucleus::prepare_next_step() {
+  if (!state_.x.empty()) nucleus::prepare_rows(model_, state_, work_.rows);
+}
+
 std::uint64_t Nucleus::state_hash() const {
   std::uint64_t h = kFnvOffset;
   if (!state_.x.empty()) {

@@ -94,6 +94,10 @@ class Nucleus {
   /// The moving colliders change shape from the next step on (another instrument in hand):
   /// the wall sums cached against them are dropped (the statics' are kept).
   void forget_moving_wall_sums();
+  /// Between two particle steps of a multi-rate world, while nothing moves: builds now the
+  /// neighbour grid and rows that the next step would rebuild, so that step does not carry
+  /// them; the same rows from the same positions, so the same results bit for bit.
+  void prepare_next_step();
   /// The pull of particle i's intact bonds built with the lattice on it (N): the sum of
   /// k (r - L) along the bond toward the other particle, at the current positions.
   Vec3 bond_pull_N(std::size_t i) const;

@@ -174,6 +174,18 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
   rows.beyond[i] = beyond;
 }
 
+}  // namespace
+
+void prepare_rows(const NucleusModel& model, NucleusState& state, VerletRows& rows) {
+  const std::uint32_t epoch = rows.epoch;
+  update_verlet_grid(model, state, rows);
+  if (rows.epoch == epoch) return;  // the rows in place still hold
+  for (std::size_t k = 0; k < state.active_count; ++k)
+    ensure_row(model, state, rows, state.active[k], rows.overflowed_ahead);
+}
+
+namespace {
+
 // Builds this step's local numbering and pairs (see build_pairs). Pairs split by reach: near
 // ones (density radius) from the front of the arrays, far ones from the back.
 class PairBuilder {
@@ -187,6 +199,8 @@ class PairBuilder {
   // The awake particles take the first local numbers, in the order of the awake list.
   void number_awake() {
     pairs_.near = pairs_.far = 0;
+    if (rows_.overflowed_ahead) pairs_.overflow = true;  // a row built ahead ran out of room
+    rows_.overflowed_ahead = false;
     step_.awake_end = state_.active_count;
     for (std::size_t k = 0; k < step_.awake_end; ++k) {
       const std::int32_t i = state_.active[k];

@@ -41,6 +41,11 @@ void begin_step(NucleusState& state, NucleusWorkspace& work, std::span<const Col
 /// Neighbours (nucleus_neighbours.cpp): rebuilds the Verlet grid when two particles have
 /// moved a skin together since its last build (and then re-sorts the awake list).
 void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRows& rows);
+/// Neighbours, between two particle steps of a multi-rate world while nothing moves: the grid
+/// rebuild that the next step's update_verlet_grid would do, and the rows of the particles
+/// awake now, done ahead from the same positions and bonds, so the next step finds them built
+/// (the same rows, so the same bits).
+void prepare_rows(const NucleusModel& model, NucleusState& state, VerletRows& rows);
 /// Sleep and wake (nucleus_sleep.cpp): the awake list of this step.
 void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
                     std::span<const Collider> moving, double dt);

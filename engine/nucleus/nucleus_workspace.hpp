@@ -56,6 +56,8 @@ struct VerletRows {
   std::vector<std::int32_t> beyond;
   std::vector<float> r2;
   std::size_t used = 0;                     // pool entries in use since the grid build
+  // A row built ahead of its step (prepare_rows) ran out of room: that step reports it.
+  bool overflowed_ahead = false;
   std::vector<std::int32_t> scratch_j, scratch_bond;  // one row, for ordering it
   std::vector<float> scratch_r2;
   std::vector<std::uint8_t> scratch_bucket;

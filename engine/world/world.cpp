@@ -172,6 +172,8 @@ const Frame& World::step(const DeviceSample& sample) {
   clock.lap(StepStage::kFeedback);
   record(s);
   clock.lap(StepStage::kRecord);
+  prepare_nucleus();
+  clock.lap(StepStage::kNucleus);
   ++times_.steps;
   return frame_;
 }
@@ -392,6 +394,16 @@ void World::step_nucleus() {
     emit(EventKind::kNumerical, report.residual, report.stage);
     failed_ = true;
   }
+}
+
+// Multi-rate: the step before a particle step does that step's neighbour rebuild, when one is
+// due, while nothing moves (the particles only move in their own steps), so the cost of a
+// rebuild is spread over two steps. Not with jaws in hand: a grasp at the start of the particle
+// step changes which particles are held before that step's rebuild would have been made.
+void World::prepare_nucleus() {
+  if (!nucleus_ || nucleus_every_ < 2 || !nucleus_due()) return;
+  if (instrument_ && instrument_->config().has_jaws()) return;
+  nucleus_->prepare_next_step();
 }
 
 // instrument: the implicit update under the coupling, the nucleus's reaction and gravity, which

@@ -118,6 +118,7 @@ class World {
   bool nucleus_due() const { return steps_ % nucleus_every_ == 0; }
   /// The particles' step: nucleus_every World steps.
   double nucleus_dt_s() const { return config_.solver.dt_s * static_cast<double>(nucleus_every_); }
+  void prepare_nucleus();
   void step_instrument(StepData& s);
   void send_feedback(StepData& s);
   void record(const StepData& s);
