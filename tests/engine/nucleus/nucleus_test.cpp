@@ -4,6 +4,7 @@
 #include "engine/nucleus/nucleus.hpp"
 
 #include <cmath>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -32,6 +33,22 @@ StepStats check(const Nucleus& n, std::span<const Collider> statics) {
       s.min_wall_distance = std::min(s.min_wall_distance, signed_distance(c, x, nullptr));
   }
   return s;
+}
+
+// Pushes `blade` through n at `velocity` for 40 steps of dt (calling after_step after each)
+// and returns the state hash.
+std::uint64_t push_blade(Nucleus& n, Collider blade, const Vec3& velocity, double dt,
+                         const std::function<void()>& after_step = {}) {
+  blade.linear_velocity_m_s = velocity;
+  BodyReaction reaction;
+  for (int s = 0; s < 40; ++s) {
+    NumericalReport r;
+    n.step(dt, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
+    EXPECT_TRUE(r.ok) << s << " " << r.stage;
+    blade.pose.position += dt * blade.linear_velocity_m_s;
+    if (after_step) after_step();
+  }
+  return n.state_hash();
 }
 
 TEST(Nucleus, BoxBlockBuildsTheLatticeAndBonds) {
@@ -232,16 +249,7 @@ TEST(Nucleus, SampledBoneSkipsChangeNothing) {
       *near_bone += d < 2.0 * n.spacing_m();        // within the wall range (2.5 h): hits
       *clear_of_bone += d > 4.0 * n.spacing_m();    // beyond it and the margin: skipped
     }
-    Collider blade = scene.blade;
-    blade.linear_velocity_m_s = Vec3(-0.05, 0, -0.05);
-    BodyReaction reaction;
-    for (int s = 0; s < 40; ++s) {
-      NumericalReport r;
-      n.step(1e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
-      EXPECT_TRUE(r.ok) << s;
-      blade.pose.position += 1e-3 * blade.linear_velocity_m_s;
-    }
-    return n.state_hash();
+    return push_blade(n, scene.blade, Vec3(-0.05, 0, -0.05), 1e-3);
   };
   int near_on = 0, clear_on = 0, near_off = 0, clear_off = 0;
   const std::uint64_t with_skips = run(true, &near_on, &clear_on);
@@ -258,17 +266,9 @@ TEST(Nucleus, RowsBuiltAheadChangeNothing) {
   auto run = [](bool ahead) {
     BoxBlockScene scene = make_box_block_scene(2e-3);
     Nucleus n(scene.nucleus, scene.solver, scene.gravity, scene.statics);
-    Collider blade = scene.blade;
-    blade.linear_velocity_m_s = Vec3(0.05, 0, -0.05);
-    BodyReaction reaction;
-    for (int s = 0; s < 40; ++s) {
-      NumericalReport r;
-      n.step(2e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
-      EXPECT_TRUE(r.ok) << s;
-      blade.pose.position += 2e-3 * blade.linear_velocity_m_s;
+    return push_blade(n, scene.blade, Vec3(0.05, 0, -0.05), 2e-3, [&] {
       if (ahead) n.prepare_next_step();
-    }
-    return n.state_hash();
+    });
   };
   EXPECT_EQ(run(true), run(false));
 }
@@ -280,15 +280,7 @@ TEST(Nucleus, StateHashIsDeterministicAndMatchesTheGolden) {
   auto run = [] {
     BoxBlockScene scene = make_box_block_scene(2e-3);
     Nucleus n(scene.nucleus, scene.solver, scene.gravity, scene.statics);
-    Collider blade = scene.blade;
-    blade.linear_velocity_m_s = Vec3(0.02, 0, -0.05);
-    BodyReaction reaction;
-    for (int s = 0; s < 40; ++s) {
-      NumericalReport r;
-      n.step(1e-3, std::span<const Collider>(&blade, 1), std::span<BodyReaction>(&reaction, 1), r);
-      blade.pose.position += 1e-3 * blade.linear_velocity_m_s;
-    }
-    return n.state_hash();
+    return push_blade(n, scene.blade, Vec3(0.02, 0, -0.05), 1e-3);
   };
   const std::uint64_t a = run();
   EXPECT_EQ(a, run());
