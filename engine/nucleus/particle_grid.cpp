@@ -13,7 +13,6 @@ void ParticleGrid::reserve(std::size_t capacity) {
   max_cells_ = std::max<std::size_t>(4096, 8 * capacity);
   start_.assign(max_cells_ + 1, 0);
   sorted_.assign(capacity, 0);
-  xs_.assign(capacity, Vec3::Zero());
   xx_.assign(capacity, 0.0);
   xy_.assign(capacity, 0.0);
   xz_.assign(capacity, 0.0);
@@ -82,7 +81,6 @@ void ParticleGrid::build(std::span<const Vec3> x, double cell_m,
   for (std::size_t i = 0; i < x.size(); ++i) {
     const std::uint32_t k = start_[cell_of_[i]]++;
     sorted_[k] = static_cast<std::int32_t>(i);
-    xs_[k] = x[i];
     xx_[k] = x[i].x();
     xy_[k] = x[i].y();
     xz_[k] = x[i].z();

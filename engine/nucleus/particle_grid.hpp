@@ -35,7 +35,7 @@ class ParticleGrid {
   template <class F>
   void for_each_near(const Vec3& p, F&& f) const {
     for_each_run_near(p, [&](std::uint32_t first, std::uint32_t end) {
-      for (std::uint32_t k = first; k < end; ++k) f(sorted_[k], xs_[k]);
+      for (std::uint32_t k = first; k < end; ++k) f(sorted_[k], position(k));
     });
   }
 
@@ -118,10 +118,12 @@ class ParticleGrid {
   std::size_t cell_count() const { return cells_; }
 
  private:
+  // The position given to build() of the k-th sorted particle.
+  Vec3 position(std::uint32_t k) const { return Vec3(xx_[k], xy_[k], xz_[k]); }
   template <class F>
   void run(std::uint32_t first_cell, std::uint32_t last_cell, F& f) const {
     const std::uint32_t end = start_[last_cell + 1];
-    for (std::uint32_t k = start_[first_cell]; k < end; ++k) f(sorted_[k], xs_[k]);
+    for (std::uint32_t k = start_[first_cell]; k < end; ++k) f(sorted_[k], position(k));
   }
   // Calls g(first, end) for each run of sorted entries [first, end) in the 27 cells around
   // p, in z, y, x order of the cells (9 runs, more where a periodic x axis wraps).
@@ -185,8 +187,7 @@ class ParticleGrid {
   std::size_t max_cells_ = 1;
   std::vector<std::uint32_t> start_;     // cells + 1, offsets into sorted_
   std::vector<std::int32_t> sorted_;     // N, particle indices by cell
-  std::vector<Vec3> xs_;                 // N, their positions
-  std::vector<double> xx_, xy_, xz_;     // N, the same positions by coordinate
+  std::vector<double> xx_, xy_, xz_;     // N, their positions by coordinate
   std::vector<std::uint32_t> cell_of_;   // N, scratch
 };
 
