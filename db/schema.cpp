@@ -297,6 +297,9 @@ DbError not_a_record(const Database& db) {
 std::span<const Migration> schema_migrations() { return kMigrations; }
 
 DbStatus check_schema_current(Database& db) {
+  // One read transaction, so both stamps come from the same moment (see check_record_identity).
+  DbResult<Transaction> tx = Transaction::begin(db, Transaction::Mode::kDeferred);
+  if (!tx) return tx.error();
   DbResult<FileStamp> stamp = read_stamp(db);
   if (!stamp) return stamp.error();
   if (DbStatus s = refuse_unknown(db, stamp.value()); !s) return s;
@@ -311,6 +314,11 @@ DbStatus check_schema_current(Database& db) {
 }
 
 DbStatus check_record_identity(Database& db, bool may_initialise) {
+  // One read transaction: the stamp and the tables from the same moment. Read one by one, a
+  // program creating the record at the same time could commit in between, and a version read
+  // before its commit with tables counted after it looked like someone else's file.
+  DbResult<Transaction> tx = Transaction::begin(db, Transaction::Mode::kDeferred);
+  if (!tx) return tx.error();
   DbResult<FileStamp> stamp = read_stamp(db);
   if (!stamp) return stamp.error();
   if (DbStatus s = refuse_unknown(db, stamp.value()); !s) return s;
