@@ -209,6 +209,12 @@ class PairBuilder {
       step_.x_start[i] = state_.x[i];
     }
     step_.halo_end = step_.awake_end;
+    // This step's stamp for the bonds its pairs carry (find_loose_bonds); on the wrap of the
+    // counter (after 2^32 - 1 steps) the old marks are cleared so none can match it.
+    if (model_.bonds.loose_possible && ++loose_.stamp == 0) {
+      std::fill(loose_.in_pair.begin(), loose_.in_pair.end(), 0u);
+      loose_.stamp = 1;
+    }
   }
 
   // Awake rows. The awake list is sorted by particle index, so an awake neighbour numbered
@@ -288,7 +294,7 @@ class PairBuilder {
       const std::int32_t i = step_.global[k];
       for (std::int32_t a = bonds.adj_start[i]; a < bonds.adj_start[i + 1]; ++a) {
         const std::int32_t b = bonds.adj[a];
-        if (!state_.bond_alive[b] || loose_.in_pair[b]) continue;
+        if (!state_.bond_alive[b] || loose_.in_pair[b] == loose_.stamp) continue;
         const std::int32_t j = bonds.other(b, i);
         std::int32_t lj = step_.local[j];
         if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;  // awake, counted from j
@@ -304,13 +310,6 @@ class PairBuilder {
         loose_.ij[2 * loose_.count + 1] = forward ? lj : static_cast<std::int32_t>(k);
         ++loose_.count;
       }
-    }
-    if (bonds.loose_possible) {
-      // (Re-formed bonds, from index B on, are never loose.)
-      for (std::size_t p = 0; p < pairs_.near; ++p)
-        if (pairs_.bond[p] >= 0 && pairs_.bond[p] < nb_) loose_.in_pair[pairs_.bond[p]] = 0;
-      for (std::size_t p = cap_ - pairs_.far; p < cap_; ++p)
-        if (pairs_.bond[p] >= 0 && pairs_.bond[p] < nb_) loose_.in_pair[pairs_.bond[p]] = 0;
     }
   }
 
@@ -343,7 +342,8 @@ class PairBuilder {
     pairs_.n[p] = d;
     if (bond >= 0 && !bond_intact(model_, state_, bond)) bond = -1;
     pairs_.bond[p] = bond;
-    if (bond >= 0 && model_.bonds.loose_possible && bond < nb_) loose_.in_pair[bond] = 1;
+    // (Re-formed bonds, from index B on, are never loose.)
+    if (bond >= 0 && model_.bonds.loose_possible && bond < nb_) loose_.in_pair[bond] = loose_.stamp;
   }
 
   void normalise_range(std::size_t begin, std::size_t end) {

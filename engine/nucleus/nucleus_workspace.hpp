@@ -111,7 +111,10 @@ struct LooseBonds {
   std::vector<Vec3> n;             // B, unit direction i -> j
   std::vector<double> a;           // B, dt^2 k, N s/m
   std::size_t count = 0;
-  std::vector<std::uint8_t> in_pair;  // B, 1 while a pair of this step carries the bond
+  // B: the stamp of the last step one of whose pairs carried the bond (== `stamp`: this step's
+  // pairs carry it), so no pass clears the marks between steps.
+  std::vector<std::uint32_t> in_pair;
+  std::uint32_t stamp = 0;
 };
 
 /// Scratch of the operator, 4 single-precision lanes per particle (x, y, z, 0).
