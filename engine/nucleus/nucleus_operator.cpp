@@ -246,6 +246,7 @@ void near_pair_forces(const NucleusWorkspace& work, ApplyScratch& scratch, Vec3*
   for (std::size_t i = 0; i < rows; ++i) {
     const float si = s[i];
     F4 yi = F4{0.0f, 0.0f, 0.0f, 0.0f};
+#pragma GCC unroll 4
     for (std::int32_t p = rn[i]; p < rn[i + 1]; ++p) {
       const PairKernel& e = kr[p];
       F4 ng;
