@@ -148,7 +148,7 @@ void solve_with_contacts(const NucleusModel& model, NucleusState& state, Nucleus
   for (int solve = 1; solve < kContactSolves && report.ok; ++solve) {
     if (release_pulling_contacts(work, dt) == 0) break;
     NumericalReport again;
-    solve_velocities(model, state, work, again);
+    solve_velocities(model, state, work, again, /*resume=*/true);
     report.iterations += again.iterations;
     report.residual = again.residual;
     if (!again.ok) {

@@ -37,7 +37,7 @@ void warm_start(const NucleusModel& model, NucleusState& state, const StepPartic
 // Witkin 1998: the filter removes the constrained components), warm started from the previous
 // velocities (the flow changes little between 1 ms ticks).
 void solve_velocities(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
-                      NumericalReport& report) {
+                      NumericalReport& report, bool resume) {
   const StepParticles& step = work.step;
   StepContacts& contacts = work.contacts;
   const StepSystem& sys = work.sys;
@@ -56,14 +56,27 @@ void solve_velocities(const NucleusModel& model, NucleusState& state, NucleusWor
     }
   };
   warm_start(model, state, step, contacts, v);
-  apply_operator(work, work.apply, v, q, step.frozen_moving);
-  // A v on the constrained rows, kept along with v (A v0 + sum alpha A p): the contact forces
-  // are its constrained part (reactions_and_pressure), which the filtered residual drops.
-  for (std::size_t c = 0; c < contacts.particles; ++c) contacts.av[c] = q[contacts.particle[c]];
+  if (!resume) {
+    apply_operator(work, work.apply, v, q, step.frozen_moving);
+    // A v on the constrained rows, kept along with v (A v0 + sum alpha A p): the contact
+    // forces are its constrained part (reactions_and_pressure), which the filtered residual
+    // drops.
+    for (std::size_t c = 0; c < contacts.particles; ++c) contacts.av[c] = q[contacts.particle[c]];
+    for (std::size_t k = 0; k < na; ++k) r[k] = sys.rhs[k] - q[k];
+  } else {
+    // The last solve's residual b - A v is whole on the rows it did not constrain (q is not
+    // filtered there); on the contact rows, whose slots stay with their particles when
+    // contacts let go, it is made whole from the tracked A v. The velocities are the last
+    // solve's: the warm start's projection leaves them as they are (they meet every
+    // constraint still held, and letting go adds none).
+    for (std::size_t c = 0; c < contacts.particles; ++c) {
+      const std::int32_t k = contacts.particle[c];
+      r[k] = sys.rhs[k] - contacts.av[c];
+    }
+  }
   double b_norm2 = 0.0, g_norm2 = 0.0;
   const double g2 = model.gravity.squaredNorm();
   for (std::size_t k = 0; k < na; ++k) {
-    r[k] = sys.rhs[k] - q[k];
     b_norm2 += sys.rhs[k].squaredNorm();
     g_norm2 += sys.mass[k] * sys.mass[k] * g2;
   }

@@ -65,9 +65,11 @@ void assemble(const NucleusModel& model, const NucleusState& state, NucleusWorks
 /// `full`). Reads the assembled system in `work`; writes only `scratch`, x and y (nl each).
 void apply_operator(const NucleusWorkspace& work, ApplyScratch& scratch, const Vec3* x, Vec3* y,
                     bool full);
-/// The PCG solve (nucleus_pcg.cpp): the awake particles' velocities into state.v.
+/// The PCG solve (nucleus_pcg.cpp): the awake particles' velocities into state.v. `resume`: a
+/// solve again after contacts let go (release_pulling_contacts), from the last solve's
+/// velocities and residual, without a product for the residual.
 void solve_velocities(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
-                      NumericalReport& report);
+                      NumericalReport& report, bool resume = false);
 /// Contacts (nucleus_contacts.cpp): the contacts whose force would pull their particle
 /// toward the wall let go (their constraints are rebuilt from the pushing ones); returns how
 /// many. Called after a solve.

@@ -299,7 +299,10 @@ TEST(Nucleus, StateHashIsDeterministicAndMatchesTheGolden) {
   // the 10 ms force windows by 1.1 % RMS; acdr verify 13/13 and acdr stress 13/13.
   // Re-recorded for contacts that only push (nucleus_contacts.cpp): held at the contact
   // distance while receding by a hair, let go in the same step when they would pull.
-  constexpr std::uint64_t kGolden = 0x7446661cad9bcc2eull;
+  // Re-recorded for the solve again after contacts let go resumed from the residual it
+  // carries (no product for it): on the box demonstration from 1 s to 3 s the 12 ms force
+  // windows moved by 1.4e-7 relative RMS, the mean and peak force not in six digits.
+  constexpr std::uint64_t kGolden = 0x24d7dfb79cded04bull;
   EXPECT_EQ(a, kGolden) << "golden hash changed: 0x" << std::hex << a;
 }
 
