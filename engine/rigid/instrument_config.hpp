@@ -52,9 +52,10 @@ struct InstrumentConfig {
   /// they let it go (the gap between the two keeps a grip from flickering).
   double jaw_hold_closure = 0.9;
   double jaw_release_closure = 0.5;
-  /// Open jaws (at or below jaw_release_closure) whose plates are both outside the removal
-  /// region are shaken off over the tray: the gel slides on them (Collider::slip) instead of
-  /// clinging to them by its no-slip coupling, so what lies on the plates falls off.
+  /// Open jaws (at or below jaw_release_closure), and opening ones, whose plates are both
+  /// outside the removal region are shaken off over the tray: the gel slides on them
+  /// (Collider::slip) instead of clinging to them by its no-slip coupling, so what lies on the
+  /// plates falls off.
   bool jaw_shake_off = true;
 
   bool has_jaws() const { return shape == InstrumentShape::kRongeur; }

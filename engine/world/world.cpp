@@ -318,16 +318,21 @@ void World::carry_held(const Pose& grip, const Vec3& v_grip, const Vec3& omega) 
 }
 
 // The hand shakes what lies on the open jaws off over the tray (InstrumentConfig::jaw_shake_off):
-// while the jaws are open and both plates' centres are outside the removal region, the gel
-// slides on the plates. A 300 Pa s film clings to a still plate (it creeps off under its own
-// weight at some 30 um/s), but a tap of the forceps on the tray's rim or a flick of the wrist
-// gives the film accelerations many times g and throws it off; the model has no such shake,
-// so it lets the film slide on the whole instrument instead (gel lodged between the jaws also
-// touches the shaft's end at the hinge). Inside the disc, and with the jaws closed, it keeps
-// its no-slip coupling.
+// while the jaws are open, or opening, and both plates' centres are outside the removal region,
+// the gel slides on the plates. A 300 Pa s film clings to a still plate (it creeps off under its
+// own weight at some 30 um/s), but a tap of the forceps on the tray's rim or a flick of the
+// wrist gives the film accelerations many times g and throws it off; the model has no such
+// shake, so it lets the film slide on the whole instrument instead (gel lodged between the jaws
+// also touches the shaft's end at the hinge). From the first opening step, not only once the
+// jaws have let go of the bite (jaw_release_closure): until then the bite is held rigidly where
+// it lay between the jaws, and gel clinging to the parting plates was sheared between them and
+// that rigid bite, which in module 03's 3000 Pa s gel pulled on the jaws with up to 10-20 N
+// for ~30 ms, enough to overload the shaft by opening the jaws in the air. Inside the disc,
+// and with the jaws closed or closing, it keeps its no-slip coupling.
 void World::shake_off_jaws() {
   const InstrumentConfig& ic = instrument_->config();
-  if (!ic.jaw_shake_off || jaw_closure_ > ic.jaw_release_closure) return;
+  const bool opening = jaw_rate_ < 0.0;
+  if (!ic.jaw_shake_off || (jaw_closure_ > ic.jaw_release_closure && !opening)) return;
   const Vec3 lo = config_.removal.min_m, hi = config_.removal.max_m;
   for (int k = 0; k < InstrumentGeometry::kJawCount; ++k)
     if (!outside_region(moving_[k].pose.position, lo, hi)) return;
