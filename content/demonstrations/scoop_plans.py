@@ -521,14 +521,17 @@ def stiff_round(wall, middle, straight=STRAIGHT_STIFF):
 # edges. A third round goes after the first two with the angled jaws, to the back along both
 # side walls at three heights (BACK_BAND) and along the walls high against C4 (AGAINST_C4),
 # then one straight bite to the back of the middle (BACK_MIDDLE); module 03 allows 150 s for it.
-BACK_BAND_MIDDLE = [A("the left wall, to the back", 0.52, -0.1, -0.55, -25),
-                    A("the right wall, to the back", -0.52, -0.1, -0.55, 25)]
-BACK_BAND_HIGH = [A("the left wall, to the back, high", 0.52, 0.4, -0.55, -25),
-                  A("the right wall, to the back, high", -0.52, 0.4, -0.55, 25)]
-BACK_BAND_LOW = [A("the left wall, to the back, low", 0.52, -0.6, -0.55, -25),
-                 A("the right wall, to the back, low", -0.52, -0.6, -0.55, 25)]
-AGAINST_C4 = [A("the left wall, against C4", 0.52, 1.0, -0.314, -25),
-              A("the right wall, against C4", -0.52, 1.0, -0.314, 25)]
+def both_walls(where, y, v):
+    """Angled bites along the left and the right side wall (lanes at u +-0.52, the jaws' axis
+    25 deg toward the wall), the jaws' middle at y (mm) and depth v."""
+    return [A("the left wall, " + where, 0.52, y, v, -25),
+            A("the right wall, " + where, -0.52, y, v, 25)]
+
+
+BACK_BAND_MIDDLE = both_walls("to the back", -0.1, -0.55)
+BACK_BAND_HIGH = both_walls("to the back, high", 0.4, -0.55)
+BACK_BAND_LOW = both_walls("to the back, low", -0.6, -0.55)
+AGAINST_C4 = both_walls("against C4", 1.0, -0.314)
 BACK_MIDDLE = [A("the back, middle, upper half", 0, 0.3, -0.6, 0)]
 
 
