@@ -87,6 +87,8 @@ struct SolverConfig {
   int max_iterations = 60;       ///< linear solver iterations per substep
   double tolerance = 1.0e-4;     ///< relative residual of the linear solve
   bool sleep_enabled = true;     ///< particles at rest far from the instrument are not integrated
+  /// A particle under this speed for 40 ms of simulated time (nucleus_sleep.cpp), farther than
+  /// sleep_distance_m from every moving collider, sleeps.
   double sleep_speed_m_s = 1.0e-4;
   double sleep_distance_m = 6.0e-3;
   /// Particle-collider contacts are looked for only where the collider's bounding box comes

@@ -1,5 +1,6 @@
 // Sleep and wake: which particles a step integrates.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -9,7 +10,15 @@
 namespace acdr::nucleus {
 namespace {
 
-constexpr int kCalmStepsToSleep = 20;  // steps below the sleep speed before sleeping
+// How long a particle stays below the sleep speed before it sleeps, in simulated time (so the
+// particles every k-th step, k dt at a time, sleep after the same time as at every step).
+constexpr double kCalmTimeToSleep_s = 0.04;
+
+// The particle steps of length dt nearest to kCalmTimeToSleep_s: at least one, and at most
+// what the calm counter holds (NucleusState::calm).
+int calm_steps_to_sleep(double dt) {
+  return static_cast<int>(std::clamp(std::lround(kCalmTimeToSleep_s / dt), 1L, 60000L));
+}
 
 }  // namespace
 
@@ -77,12 +86,13 @@ void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorks
   }
   state.wake_count = 0;
   // Particles awake at the start of the step: calm steps, and sleep after enough of them.
+  const int calm_steps = calm_steps_to_sleep(dt);
   std::size_t survivors = 0;
   for (std::size_t k = 0; k < was_awake; ++k) {
     const std::int32_t i = state.active[k];
     const bool calm = work.stamp[i] != near_mark && state.v[i].squaredNorm() < slow2;
     state.calm[i] = calm ? static_cast<std::uint16_t>(std::min(state.calm[i] + 1, 60000)) : 0;
-    if (state.calm[i] >= kCalmStepsToSleep) {
+    if (state.calm[i] >= calm_steps) {
       state.awake[i] = 0;
       state.v[i] = Vec3::Zero();
       // Its displacement since the grid build stays in the rebuild test (update_verlet_grid).
