@@ -125,6 +125,15 @@ std::vector<StressCaseSpec> builtin_stress_cases(bool fast) {
     s.viscosity_Pa_s = 1.0e4;
     s.speed_m_s = 1.0;
   });
+  // The longest particle step a scenario may set (nucleus_every x dt <= 10 ms): every 10th
+  // 1 ms step, the reaction held over nine steps.
+  add("every10_dt1ms", [](StressCaseSpec& s) { s.nucleus_every = 10; });
+  add("every10_k1e5_mu1e4_1m_s", [](StressCaseSpec& s) {
+    s.nucleus_every = 10;
+    s.bond_stiffness_N_m = 1.0e5;
+    s.viscosity_Pa_s = 1.0e4;
+    s.speed_m_s = 1.0;
+  });
   return out;
 }
 
