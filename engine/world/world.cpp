@@ -395,6 +395,7 @@ void World::step_nucleus() {
   nucleus_->step(nucleus_dt_s(), moving, reactions, report);
   if (!held_.empty()) add_held_reaction(nucleus_dt_s());
   frame_.solver_iterations = report.iterations;
+  count_removed();  // the particles move only in their steps: the counts hold until the next
   if (!report.ok && !failed_) {
     emit(EventKind::kNumerical, report.residual, report.stage);
     failed_ = true;
@@ -508,7 +509,6 @@ void World::record(const StepData& s) {
   if (nucleus_) {
     frame_.broken_bonds = static_cast<std::int32_t>(nucleus_->broken_bond_count());
     frame_.active_particles = static_cast<std::int32_t>(nucleus_->active_count());
-    count_removed();
   }
   bone_sampled_ = bone_period_steps_ > 0 && steps_ % bone_period_steps_ == 0;
   if (bone_sampled_) sample_bone_loads();
