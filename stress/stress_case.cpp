@@ -116,24 +116,19 @@ std::vector<StressCaseSpec> builtin_stress_cases(bool fast) {
     s.viscosity_Pa_s = 1.0;
     s.speed_m_s = 1.0;
   });
-  // Multi-rate: the particles every 3rd 1 ms step, their reaction held in between; the
-  // held drag must not feed energy into a stiff, viscous block scooped fast.
-  add("every3_dt1ms", [](StressCaseSpec& s) { s.nucleus_every = 3; });
-  add("every3_k1e5_mu1e4_1m_s", [](StressCaseSpec& s) {
-    s.nucleus_every = 3;
-    s.bond_stiffness_N_m = 1.0e5;
-    s.viscosity_Pa_s = 1.0e4;
-    s.speed_m_s = 1.0;
-  });
-  // The longest particle step a scenario may set (nucleus_every x dt <= 10 ms): every 10th
-  // 1 ms step, the reaction held over nine steps.
-  add("every10_dt1ms", [](StressCaseSpec& s) { s.nucleus_every = 10; });
-  add("every10_k1e5_mu1e4_1m_s", [](StressCaseSpec& s) {
-    s.nucleus_every = 10;
-    s.bond_stiffness_N_m = 1.0e5;
-    s.viscosity_Pa_s = 1.0e4;
-    s.speed_m_s = 1.0;
-  });
+  // Multi-rate: the particles every 3rd 1 ms step, their reaction held in between, and every
+  // 10th, the longest particle step a scenario may set (nucleus_every x dt <= 10 ms); the held
+  // drag must not feed energy into a stiff, viscous block scooped fast.
+  for (int every : {3, 10}) {
+    const std::string name = "every" + std::to_string(every);
+    add(name + "_dt1ms", [&](StressCaseSpec& s) { s.nucleus_every = every; });
+    add(name + "_k1e5_mu1e4_1m_s", [&](StressCaseSpec& s) {
+      s.nucleus_every = every;
+      s.bond_stiffness_N_m = 1.0e5;
+      s.viscosity_Pa_s = 1.0e4;
+      s.speed_m_s = 1.0;
+    });
+  }
   return out;
 }
 
