@@ -14,10 +14,14 @@ namespace {
 // particles every k-th step, k dt at a time, sleep after the same time as at every step).
 constexpr double kCalmTimeToSleep_s = 0.04;
 
+// The calm counter (NucleusState::calm, 16 bits) stops counting here.
+constexpr int kCalmCountMax = 60000;
+
 // The particle steps of length dt nearest to kCalmTimeToSleep_s: at least one, and at most
-// what the calm counter holds (NucleusState::calm).
+// what the calm counter reaches.
 int calm_steps_to_sleep(double dt) {
-  return static_cast<int>(std::clamp(std::lround(kCalmTimeToSleep_s / dt), 1L, 60000L));
+  return static_cast<int>(
+      std::clamp(std::lround(kCalmTimeToSleep_s / dt), 1L, long{kCalmCountMax}));
 }
 
 }  // namespace
@@ -91,7 +95,7 @@ void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorks
   for (std::size_t k = 0; k < was_awake; ++k) {
     const std::int32_t i = state.active[k];
     const bool calm = work.stamp[i] != near_mark && state.v[i].squaredNorm() < slow2;
-    state.calm[i] = calm ? static_cast<std::uint16_t>(std::min(state.calm[i] + 1, 60000)) : 0;
+    state.calm[i] = calm ? static_cast<std::uint16_t>(std::min(state.calm[i] + 1, kCalmCountMax)) : 0;
     if (state.calm[i] >= calm_steps) {
       state.awake[i] = 0;
       state.v[i] = Vec3::Zero();
