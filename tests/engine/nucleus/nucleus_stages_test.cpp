@@ -4,7 +4,6 @@
 #include "engine/nucleus/nucleus_stages.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <set>
 #include <utility>
@@ -303,6 +302,29 @@ TEST(NucleusStages, AResumedSolveMeetsTheToleranceOnTheTrueResidual) {
   EXPECT_LE(again.residual, 1e-6);
   EXPECT_LE(true_residual, 2e-6);
   EXPECT_EQ(pulling_contacts(w), 0);
+}
+
+// A particle sleeps after 40 ms of calm whatever its step (nucleus_sleep.cpp), so particles
+// stepped every k-th 1 ms step (k ms at once) sleep after the same time: the block held still,
+// every particle at rest and no instrument near, counted in steps of 1, 2, 3 and 4 ms.
+TEST(NucleusStages, ACalmParticleSleepsAfterFortyMillisecondsWhateverItsStep) {
+  const std::pair<double, int> cases[] = {{1e-3, 40}, {2e-3, 20}, {3e-3, 13}, {4e-3, 10}};
+  for (const auto& [dt, expected] : cases) {
+    BoxBlockScene scene = pressed_block_scene();
+    StagedNucleus n{scene.nucleus, scene.solver, scene.gravity, scene.statics};
+    for (std::size_t i = 0; i < n.state.x.size(); ++i) n.state.v[i] = Vec3::Zero();
+    const std::size_t awake = n.state.active_count;
+    ASSERT_GT(awake, 0u);
+    update_verlet_grid(n.model, n.state, n.work.rows);
+    int steps = 0;
+    while (n.state.active_count == awake && steps < 1000) {
+      wake_and_sleep(n.model, n.state, n.work, {}, dt);
+      ++steps;
+    }
+    // The whole steps nearest to 40 ms (at 3 ms, 39 ms); then all of them at once.
+    EXPECT_EQ(steps, expected) << "dt " << dt;
+    EXPECT_EQ(n.state.active_count, 0u) << "dt " << dt;
+  }
 }
 
 TEST(NucleusStages, AwakeListIsSortedAndMatchesTheFlags) {
