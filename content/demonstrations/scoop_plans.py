@@ -540,20 +540,22 @@ def third_round(angled_moves):
     return [("angled", angled_moves, ANGLED_STIFF), ("rongeur", BACK_MIDDLE, STRAIGHT_STIFF)]
 
 
+# The first two rounds most experts share, and the third round of two of them.
+TWO_STIFF_ROUNDS = stiff_round(WALL, MIDDLE) + stiff_round(WALL_WIDE, MIDDLE)
+THIRD_ROUND_MIDDLE_FIRST = third_round(BACK_BAND_MIDDLE + AGAINST_C4 + BACK_BAND_LOW
+                                       + BACK_BAND_HIGH)
+
 EXPERTS_VISCOUS_TRAY = {
     "expert_1": ("three rounds of bites in the stiff gel: the walls, the middle and the back, the "
                  "walls wider, the middle; then the back band and the walls against C4; each "
-                 "bite carried out slowly", 0.6,
-                 stiff_round(WALL, MIDDLE) + stiff_round(WALL_WIDE, MIDDLE)
-                 + third_round(BACK_BAND_MIDDLE + AGAINST_C4 + BACK_BAND_LOW + BACK_BAND_HIGH)),
+                 "bite carried out slowly", 0.6, TWO_STIFF_ROUNDS + THIRD_ROUND_MIDDLE_FIRST),
     "expert_2": ("the same first two rounds, the third starting high at the back and ending "
                  "against C4", 0.6,
-                 stiff_round(WALL, MIDDLE) + stiff_round(WALL_WIDE, MIDDLE)
+                 TWO_STIFF_ROUNDS
                  + third_round(BACK_BAND_HIGH + BACK_BAND_MIDDLE + BACK_BAND_LOW + AGAINST_C4)),
     "expert_3": ("the walls and the middle twice, the same walls both times, then the back band "
                  "and the walls against C4", 0.6,
-                 stiff_round(WALL, MIDDLE) * 2
-                 + third_round(BACK_BAND_MIDDLE + AGAINST_C4 + BACK_BAND_LOW + BACK_BAND_HIGH)),
+                 stiff_round(WALL, MIDDLE) * 2 + THIRD_ROUND_MIDDLE_FIRST),
     "expert_4": ("three rounds, the second's last bites at the back with the jaws opened only "
                  "0.6, the walls against C4 last", 0.6,
                  stiff_round(WALL, MIDDLE) + stiff_round(WALL_WIDE, MIDDLE_BACK_HALF_OPEN)
