@@ -32,12 +32,16 @@ constexpr int kPer = ReformedBonds::kPerParticle;
 // later reads the particles' slots itself).
 void set_row_bond(VerletRows& rows, std::int32_t i, std::int32_t j, std::int32_t bond) {
   if (rows.epoch_of[i] != rows.epoch) return;
-  const std::int32_t start = rows.start[i];
-  for (std::int32_t c = start; c < start + rows.len[i]; ++c)
-    if (rows.j[c] == j) {
-      rows.bond[c] = bond;
-      return;
-    }
+  auto set_in = [&](std::int32_t begin, std::int32_t end) {
+    for (std::int32_t c = begin; c < end; ++c)
+      if (rows.j[c] == j) {
+        rows.bond[c] = bond;
+        return true;
+      }
+    return false;
+  };
+  if (set_in(rows.start[i], rows.start[i] + rows.upper[i])) return;
+  if (rows.lower_at[i] >= 0) set_in(rows.lower_at[i], rows.lower_at[i] + rows.lower_len[i]);
 }
 
 // The first unused slot entry of particle i, or nullptr when it holds kPer re-formed bonds.

@@ -194,7 +194,8 @@ void reserve_rows(const NucleusModel& model, std::size_t n, VerletRows& rows) {
   rows.epoch = 0;
   rows.epoch_of.assign(n, 0);
   rows.start.assign(n, 0);
-  rows.len.assign(n, 0);
+  rows.lower_at.assign(n, 0);
+  rows.lower_len.assign(n, 0);
   const std::size_t row_cap = std::max<std::size_t>(64, n * (lattice * 3 / 2 + 8));
   rows.j.assign(row_cap, 0);
   rows.bond.assign(row_cap, -1);

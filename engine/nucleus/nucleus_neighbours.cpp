@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include <emmintrin.h>
 
@@ -68,30 +69,40 @@ std::int32_t reformed_other(const NucleusState& state, std::int32_t s, std::int3
   return a == i ? b : a;
 }
 
-// Row i: every particle within R + skin of i at the last grid build, with the bond between
-// them (-1 if none). Computed at most once per grid build, when i first takes part in a step.
-void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
-                std::int32_t i, bool& overflow) {
-  if (rows.epoch_of[i] == rows.epoch) return;
-  rows.epoch_of[i] = rows.epoch;
-  const double reach = model.radius + model.skin;
-  const double reach2 = reach * reach;
-  // i's bonds by partner (a live bond wins over a broken one between the same particles).
+// Row i's bonds by partner in rows.partner_bond (a live bond wins over a broken one between the
+// same particles; re-formed bonds are index B + slot, only between particles without a live
+// built bond), or (set = false) those marks cleared again.
+void mark_partners(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+                   std::int32_t i, bool set) {
   for (std::int32_t k = model.bonds.adj_start[i]; k < model.bonds.adj_start[i + 1]; ++k) {
     const std::int32_t b = model.bonds.adj[k];
     const std::int32_t other = model.bonds.other(b, i);
-    if (rows.partner_bond[other] < 0 || !state.bond_alive[rows.partner_bond[other]])
+    if (!set)
+      rows.partner_bond[other] = -1;
+    else if (rows.partner_bond[other] < 0 || !state.bond_alive[rows.partner_bond[other]])
       rows.partner_bond[other] = b;
   }
-  // Re-formed bonds (index B + slot; only between particles without a live built bond).
-  const std::int32_t* reformed_of =
-      model.rebonding ? state.reformed.of.data() + static_cast<std::size_t>(i) * kReformed
-                      : nullptr;
-  if (reformed_of != nullptr)
-    for (int a = 0; a < kReformed; ++a)
-      if (const std::int32_t s = reformed_of[a]; s >= 0)
-        rows.partner_bond[reformed_other(state, s, i)] =
-            static_cast<std::int32_t>(model.bonds.size()) + s;
+  if (!model.rebonding) return;
+  const std::int32_t* reformed_of = state.reformed.of.data() + static_cast<std::size_t>(i) * kReformed;
+  for (int a = 0; a < kReformed; ++a)
+    if (const std::int32_t s = reformed_of[a]; s >= 0)
+      rows.partner_bond[reformed_other(state, s, i)] =
+          set ? static_cast<std::int32_t>(model.bonds.size()) + s : -1;
+}
+
+// Which entries of a row row_part() computes: all of them, the upper part only (the lower one
+// deferred), or the deferred lower part.
+enum class RowPart { kWhole, kUpper, kLower };
+
+// Appends the entries of row i's `part` to the pool: every particle within R + skin of i at
+// the last grid build (above i for the upper part, below it for the lower), with the bond
+// between them (-1 if none), and sets where they are. Returns false, having appended nothing,
+// when an upper part is asked for and the whole row is too long to order (see below).
+bool row_part(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+              std::int32_t i, RowPart part, bool& overflow) {
+  const double reach = model.radius + model.skin;
+  const double reach2 = reach * reach;
+  mark_partners(model, state, rows, i, true);
   const std::size_t start = rows.used;
   const std::size_t cap = rows.j.size();
   const Vec3 xi = rows.x_built[i];
@@ -101,12 +112,19 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
   const double R2 = model.radius * model.radius;
   const std::size_t scratch = rows.scratch_j.size();
   std::array<std::int32_t, 7> count{};
+  std::size_t left = 0;  // entries of the other part, not kept
   auto keep = [&](std::int32_t j, double r2) {
+    if (j == i) return;
+    if (part != RowPart::kWhole && (j < i) != (part == RowPart::kLower)) {
+      ++left;
+      return;
+    }
     if (rows.used >= cap) {
       overflow = true;
       return;
     }
-    const int bucket = (j < i ? 3 : 0) + (r2 < Rd2 ? 0 : (r2 < R2 ? 1 : 2));
+    // (Rd <= R: build_model caps the density radius at R.)
+    const int bucket = 3 * int(j < i) + int(r2 >= Rd2) + int(r2 >= R2);
     const std::size_t c = rows.used - start;
     if (c < scratch) {
       rows.scratch_bucket[c] = static_cast<std::uint8_t>(bucket);
@@ -124,23 +142,16 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
       if (r2 < reach2) keep(j, r2);
     });
   } else {
-    rows.grid.for_each_within(xi, reach2, [&](std::int32_t j, double r2) {
-      if (j != i) keep(j, r2);
-    });
+    rows.grid.for_each_within(xi, reach2, keep);
   }
-  for (std::int32_t k = model.bonds.adj_start[i]; k < model.bonds.adj_start[i + 1]; ++k) {
-    const std::int32_t b = model.bonds.adj[k];
-    rows.partner_bond[model.bonds.other(b, i)] = -1;
-  }
-  if (reformed_of != nullptr)
-    for (int a = 0; a < kReformed; ++a)
-      if (const std::int32_t s = reformed_of[a]; s >= 0)
-        rows.partner_bond[reformed_other(state, s, i)] = -1;
+  mark_partners(model, state, rows, i, false);
   const std::size_t len = rows.used - start;
-  rows.start[i] = static_cast<std::int32_t>(start);
-  rows.len[i] = static_cast<std::int32_t>(len);
-  // Order by bucket (stable counting sort; see VerletRows::upper). A row longer than the scratch is
-  // only split into its upper and lower parts (the ordering only saves time).
+  if (part == RowPart::kUpper && len + left > scratch) {
+    rows.used = start;
+    return false;
+  }
+  // Order by bucket (stable counting sort; see VerletRows::upper). A row longer than the
+  // scratch is only split into its upper and lower parts (the ordering only saves time).
   std::int32_t upper = 0, beyond = 0;
   if (len <= scratch) {
     std::copy(rows.j.begin() + start, rows.j.begin() + rows.used, rows.scratch_j.begin());
@@ -156,7 +167,8 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
       rows.r2[at] = rows.scratch_r2[c];
     }
   } else {
-    // Unordered: upper/lower partition only (in place, order within the parts lost).
+    // Unordered (a whole row, or its lower part's overflow): upper/lower partition only (in
+    // place, order within the parts lost).
     std::size_t lo = start, hi = rows.used;
     while (lo < hi) {
       if (rows.j[lo] > i) {
@@ -170,8 +182,38 @@ void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows
     upper = static_cast<std::int32_t>(lo - start);
     beyond = upper;
   }
+  if (part == RowPart::kLower) {
+    rows.lower_at[i] = static_cast<std::int32_t>(start);
+    rows.lower_len[i] = static_cast<std::int32_t>(len);
+    return true;
+  }
+  rows.start[i] = static_cast<std::int32_t>(start);
   rows.upper[i] = upper;
   rows.beyond[i] = beyond;
+  rows.lower_at[i] = part == RowPart::kUpper ? -1 : static_cast<std::int32_t>(start) + upper;
+  rows.lower_len[i] = static_cast<std::int32_t>(len) - upper;
+  return true;
+}
+
+// Row i, computed at most once per grid build, when i first takes part in a step. While every
+// particle is awake no step reads a lower part (an awake neighbour below i pairs with i from
+// its own row, and there is no halo), so a row's lower part is then left until a step does
+// (ensure_lower_part): the same entries in the same order, from the same grid and bonds. Not
+// with re-bonding, whose bonds change inside a grid build, nor on periodic axes.
+void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+                std::int32_t i, bool& overflow) {
+  if (rows.epoch_of[i] == rows.epoch) return;
+  rows.epoch_of[i] = rows.epoch;
+  const bool defer =
+      !model.rebonding && !model.periodic && state.active_count == state.x.size();
+  if (defer && row_part(model, state, rows, i, RowPart::kUpper, overflow)) return;
+  row_part(model, state, rows, i, RowPart::kWhole, overflow);
+}
+
+// The lower part of row i (its row is current), if it was left for later.
+void ensure_lower_part(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+                       std::int32_t i, bool& overflow) {
+  if (rows.lower_at[i] < 0) row_part(model, state, rows, i, RowPart::kLower, overflow);
 }
 
 }  // namespace
@@ -242,8 +284,7 @@ class PairBuilder {
       const Vec3 xi = state_.x[i];
       // Wake propagation for the next step: a frozen neighbour of a moving particle wakes.
       const bool moving_i = propagate_wake && state_.v[i].squaredNorm() >= slow2;
-      auto visit = [&](std::int32_t c) {
-        const std::int32_t j = rj[c];
+      auto visit = [&](std::int32_t j, std::int32_t bond) {
         const Vec3 d = min_image(model_, state_.x[j] - xi);
         const double r2 = d.squaredNorm();
         if (r2 >= R2_ || r2 <= 0.0) return;
@@ -258,16 +299,20 @@ class PairBuilder {
           state_.wake_next[j] = 1;
           state_.wake_list[state_.wake_count++] = j;
         }
-        emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
+        emit(static_cast<std::int32_t>(k), lj, d, r2, bond);
       };
       const float* rr = rows_.r2.data() + rows_.start[i];
       const std::int32_t beyond = rows_.beyond[i];
-      for (std::int32_t c = 0; c < beyond; ++c) visit(c);
+      for (std::int32_t c = 0; c < beyond; ++c) visit(rj[c], rb[c]);
       for (std::int32_t c = beyond; c < upper; ++c)
-        if (rr[c] < far2) visit(c);
-      if (!mark_lower || work_.stamp[i] == lower_mark)
-        for (std::int32_t c = upper; c < rows_.len[i]; ++c)
-          if (!state_.awake[rj[c]]) visit(c);
+        if (rr[c] < far2) visit(rj[c], rb[c]);
+      if (!mark_lower || work_.stamp[i] == lower_mark) {
+        ensure_lower_part(model_, state_, rows_, i, pairs_.overflow);
+        const std::int32_t* lj = rows_.j.data() + rows_.lower_at[i];
+        const std::int32_t* lb = rows_.bond.data() + rows_.lower_at[i];
+        for (std::int32_t c = 0; c < rows_.lower_len[i]; ++c)
+          if (!state_.awake[lj[c]]) visit(lj[c], lb[c]);
+      }
     }
     pairs_.near_awake = pairs_.near;
     pairs_.far_awake = pairs_.far;
@@ -379,22 +424,27 @@ class PairBuilder {
   // awake particles, the outer ring for halo ones).
   void pair_row(std::size_t k, std::size_t& next) {
     const std::int32_t i = open_row(k);
-    const std::int32_t* rj = rows_.j.data() + rows_.start[i];
-    const std::int32_t* rb = rows_.bond.data() + rows_.start[i];
+    ensure_lower_part(model_, state_, rows_, i, pairs_.overflow);
     const Vec3 xi = state_.x[i];
-    for (std::int32_t c = 0; c < rows_.len[i]; ++c) {
-      const std::int32_t j = rj[c];
-      std::int32_t lj = step_.local[j];
-      if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;
-      const Vec3 d = min_image(model_, state_.x[j] - xi);
-      const double r2 = d.squaredNorm();
-      if (r2 >= R2_ || r2 <= 0.0) continue;
-      if (lj < 0) {
-        lj = static_cast<std::int32_t>(next++);
-        step_.local[j] = lj;
-        step_.global[lj] = j;
+    // The upper part, then the lower one.
+    for (const auto& [at, n] : {std::pair{rows_.start[i], rows_.upper[i]},
+                               std::pair{rows_.lower_at[i], rows_.lower_len[i]}}) {
+      const std::int32_t* rj = rows_.j.data() + at;
+      const std::int32_t* rb = rows_.bond.data() + at;
+      for (std::int32_t c = 0; c < n; ++c) {
+        const std::int32_t j = rj[c];
+        std::int32_t lj = step_.local[j];
+        if (lj >= 0 && lj < static_cast<std::int32_t>(k)) continue;
+        const Vec3 d = min_image(model_, state_.x[j] - xi);
+        const double r2 = d.squaredNorm();
+        if (r2 >= R2_ || r2 <= 0.0) continue;
+        if (lj < 0) {
+          lj = static_cast<std::int32_t>(next++);
+          step_.local[j] = lj;
+          step_.global[lj] = j;
+        }
+        emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
       }
-      emit(static_cast<std::int32_t>(k), lj, d, r2, rb[c]);
     }
   }
 

@@ -43,13 +43,14 @@ struct VerletRows {
   std::uint32_t epoch = 0;              // grid builds so far
   std::size_t grid_builds = 0;
   std::vector<std::uint32_t> epoch_of;  // N, epoch a row was computed in (0: none)
-  std::vector<std::int32_t> start;      // N, offset into the pool
-  std::vector<std::int32_t> len;        // N
   std::vector<std::int32_t> j;          // pool: candidate particle
   std::vector<std::int32_t> bond;       // pool: their bond (any state), -1 if none
-  // N: how many of row i's entries (its first ones) have an index above i; each part of the
-  // row is ordered inside the density radius / inside R / beyond, at the grid build.
-  std::vector<std::int32_t> upper;
+  // N: row i's upper part (the entries with an index above i) is [start, start + upper) of the
+  // pool, its lower part [lower_at, lower_at + lower_len) (right after the upper part, or
+  // appended later: lower_at is -1 while a deferred lower part is not built; see ensure_row).
+  // Each part is ordered inside the density radius / inside R / beyond, at the grid build.
+  std::vector<std::int32_t> start, upper;
+  std::vector<std::int32_t> lower_at, lower_len;
   // N: where row i's upper part's "beyond" bucket (beyond R at the build) starts (== its
   // upper count for an unordered row), and the pool's squared distances at the build (m^2,
   // ordered rows only): an entry farther than R + disp_bound then cannot be within R now.

@@ -405,6 +405,62 @@ TEST(NucleusStages, PairsAreEveryNeighbourPairOnceWithinR) {
   }
 }
 
+// While every particle is awake, rows leave their lower parts (the neighbours below them) for
+// later: no step reads them then. When particles fall asleep inside the same grid build, the
+// lower parts built then must give the same pairs, in the same order and with the same bits,
+// as whole rows built with those particles asleep from the start.
+TEST(NucleusStages, ALowerPartBuiltLaterGivesTheSamePairsAsAWholeRow) {
+  const BoxBlockScene scene = make_box_block_scene(3e-3);
+  StagedNucleus later(scene.nucleus, scene.solver, scene.gravity, scene.statics);
+  StagedNucleus whole(scene.nucleus, scene.solver, scene.gravity, scene.statics);
+  const std::size_t n = later.state.x.size();
+  ASSERT_EQ(later.state.active_count, n);  // a fresh lattice: every particle awake
+  auto pair_up = [](StagedNucleus& s) {
+    begin_step(s.state, s.work, {}, kDt);
+    update_verlet_grid(s.model, s.state, s.work.rows);
+    build_pairs(s.model, s.state, s.work);
+  };
+  pair_up(later);
+  std::size_t deferred = 0;
+  for (std::size_t i = 0; i < n; ++i) deferred += later.work.rows.lower_at[i] < 0 ? 1 : 0;
+  EXPECT_EQ(deferred, n);
+  // Every third particle asleep, in both.
+  for (NucleusState* st : {&later.state, &whole.state}) {
+    st->active_count = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      st->awake[i] = i % 3 == 1 ? 0 : 1;
+      if (st->awake[i]) st->active[st->active_count++] = static_cast<std::int32_t>(i);
+    }
+  }
+  const std::uint32_t epoch = later.work.rows.epoch;
+  pair_up(later);
+  ASSERT_EQ(later.work.rows.epoch, epoch);  // nothing moved: the same grid build
+  pair_up(whole);
+  const StepParticles& a = later.work.step;
+  const StepParticles& b = whole.work.step;
+  ASSERT_EQ(a.awake_end, b.awake_end);
+  ASSERT_EQ(a.halo_end, b.halo_end);
+  ASSERT_GT(a.halo_end, a.awake_end);  // the sleepers take part through their rows
+  ASSERT_EQ(a.outer_end, b.outer_end);
+  for (std::size_t k = 0; k < a.outer_end; ++k) ASSERT_EQ(a.global[k], b.global[k]) << k;
+  const PairList& p = later.work.pairs;
+  const PairList& q = whole.work.pairs;
+  ASSERT_FALSE(p.overflow);
+  ASSERT_EQ(p.near, q.near);
+  ASSERT_EQ(p.far, q.far);
+  EXPECT_EQ(p.near_awake, q.near_awake);
+  EXPECT_EQ(p.far_awake, q.far_awake);
+  auto same = [&](std::size_t k) {
+    EXPECT_EQ(p.i[k], q.i[k]) << k;
+    EXPECT_EQ(p.j[k], q.j[k]) << k;
+    EXPECT_EQ(p.bond[k], q.bond[k]) << k;
+    EXPECT_EQ(p.r[k], q.r[k]) << k;
+    EXPECT_EQ(p.n[k], q.n[k]) << k;
+  };
+  for (std::size_t k = 0; k < p.near; ++k) same(k);
+  for (std::size_t k = p.cap - p.far; k < p.cap; ++k) same(k);
+}
+
 TEST(NucleusStages, WallHitsAreGroupedByParticleAndWithinReach) {
   PressedBlock s;
   s.n.up_to_assembly(s.moving());
