@@ -167,8 +167,8 @@ bool row_part(const NucleusModel& model, const NucleusState& state, VerletRows& 
       rows.r2[at] = rows.scratch_r2[c];
     }
   } else {
-    // Unordered (a whole row, or its lower part's overflow): upper/lower partition only (in
-    // place, order within the parts lost).
+    // Unordered (whole rows only: a row's part is left for later only when the whole row fits
+    // the scratch): upper/lower partition only (in place, order within the parts lost).
     std::size_t lo = start, hi = rows.used;
     while (lo < hi) {
       if (rows.j[lo] > i) {
