@@ -737,6 +737,7 @@ void read_solver(ObjectReader& r, SolverConfig& s) {
                                     " ms (expected at most 10 ms)");
     }
   }
+  if (auto v = r.boolean("nucleus_pipelined", Need::kOptional)) s.nucleus_pipelined = *v;
   if (auto v = r.integer("max_iterations", Need::kOptional, Range::closed(1, 10000))) {
     s.max_iterations = *v;
   }

@@ -15,6 +15,7 @@ struct StressCaseSpec {
   std::string name;
   double dt_s = 1.0e-3;
   int nucleus_every = 1;         ///< the particles step every this many steps (multi-rate)
+  bool pipelined = false;        ///< each particle step launched a step ahead (SolverConfig)
   double bond_stiffness_N_m = 5.0;
   double viscosity_Pa_s = 250.0;
   double speed_m_s = 0.05;       ///< commanded instrument speed during the scoop

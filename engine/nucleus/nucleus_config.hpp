@@ -84,6 +84,17 @@ struct SolverConfig {
   /// the instrument, its coupling and contacts, the zones and the feedback still step at dt_s,
   /// the particles' reaction held between their steps (see World). 1: every step.
   int nucleus_every = 1;
+  /// Pipelined particle steps: each particle step is launched on a thread of its own at the end
+  /// of the due step before, against the instrument where it will be at its own step if it
+  /// moves on at its present velocities, and handed on at its own step as if it had run there
+  /// (World). When that path would cover more than a quarter of the spacing the due step runs
+  /// its particle step itself. The steps between keep pace with the worker, so no step waits
+  /// a whole particle step out.
+  bool nucleus_pipelined = false;
+  /// Where pipelined particle steps run: a thread of their own (true), or at once inside the
+  /// step that launches them (false; the same results bit for bit, for tests). Not a scenario
+  /// setting.
+  bool nucleus_thread = true;
   int max_iterations = 60;       ///< linear solver iterations per substep
   double tolerance = 1.0e-4;     ///< relative residual of the linear solve
   bool sleep_enabled = true;     ///< particles at rest far from the instrument are not integrated

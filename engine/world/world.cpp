@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <span>
 
 #include "engine/core/state_hash.hpp"
@@ -113,9 +112,14 @@ World::World(const WorldConfig& config)
     std::size_t most = 0;  // colliders of the largest instrument: an exchange never allocates
     for (const InstrumentGeometry& g : tray_) most = std::max(most, g.local_colliders().size());
     moving_.reserve(most);
+    if (config_.solver.nucleus_pipelined) particle_moving_.reserve(most);
     instrument_->world_colliders(config_.instrument_start, Vec3::Zero(), Vec3::Zero(), moving_);
   }
   reactions_.resize(1);
+  particle_reactions_.resize(1);
+  if (nucleus_ && config_.solver.nucleus_pipelined)
+    particle_worker_ = std::make_unique<StepWorker>([this] { run_particle_step(); },
+                                                    config_.solver.nucleus_thread);
   // An event's text is a zone's or an instrument's name or one of the step's own messages
   // (all under 64 characters): every slot keeps room for the longest, so emitting allocates
   // nothing.
@@ -248,6 +252,14 @@ void World::exchange_instrument_when_out() {
   reactions_[0].reference_point = rigid_->instrument_com_world();
   stepped_point_velocity_ = rigid_->instrument_com_velocity();
   stepped_angular_velocity_ = omega;
+  // A particle step in flight stepped against the old shapes: it finishes, and hands on none
+  // of their reaction.
+  if (particle_step_pending_) {
+    settle_particle_step();
+    particle_reactions_[0] = reactions_[0];
+    particle_point_velocity_ = stepped_point_velocity_;
+    particle_angular_velocity_ = stepped_angular_velocity_;
+  }
   if (nucleus_) nucleus_->forget_moving_wall_sums();
   emit(EventKind::kInstrumentExchange, instrument_index_, instrument_->config().name.c_str());
 }
@@ -312,7 +324,7 @@ void World::carry_held(const Pose& grip, const Vec3& v_grip, const Vec3& omega) 
     const Vec3 v_new = (p_end - x[i]) / dt;
     const Vec3 dp = m[i] * (v_new - v[i]);
     held_momentum_change_ += dp;
-    held_momentum_moment_ += (x[i] - reactions_[0].reference_point).cross(dp);
+    held_momentum_moment_ += (x[i] - particle_reactions_[0].reference_point).cross(dp);
     nucleus_->set_fixed_velocity(i, v_new);
   }
 }
@@ -345,7 +357,7 @@ void World::shake_off_jaws() {
 void World::add_held_reaction(double dt) {
   const auto x = nucleus_->positions();
   const auto m = nucleus_->masses();
-  BodyReaction& r = reactions_[0];
+  BodyReaction& r = particle_reactions_[0];
   Vec3 f_sum = -held_momentum_change_ / dt;
   Vec3 t_sum = -held_momentum_moment_ / dt;
   for (const std::int32_t id : held_) {
@@ -361,55 +373,167 @@ void World::add_held_reaction(double dt) {
 // nucleus: the particles step against the instrument at its current pose and velocity, and
 // gather what they do to it (force, torque, drag) about its centre of mass. Multi-rate: at
 // every nucleus_every-th step only, over that many steps at once; the steps between hold the
-// reaction (step_instrument) and spend no solver iterations.
+// reaction (step_instrument) and spend no solver iterations. Pipelined: the particle step was
+// launched at the end of the last due step (launch_particle_step) and is handed on here; the
+// steps between keep pace with it.
 void World::step_nucleus() {
   if (nucleus_ && !nucleus_due()) {
     // Between particle steps: their reaction is held, and the instrument's colliders stay those
     // they stepped against until the instrument's stage moves them.
     frame_.solver_iterations = 0;
+    if (particle_step_pending_) pace_particle_step();
     return;
   }
-  std::span<const Collider> moving;
-  std::span<BodyReaction> reactions;
+  if (particle_step_pending_) {
+    settle_particle_step();
+    hand_on_particle_step();
+    return;
+  }
+  particle_colliders_ = {};
+  particle_reaction_span_ = {};
   if (instrument_) {
     const Pose grip = rigid_->instrument_grip();
     const Vec3 com = rigid_->instrument_com_world();
     const Vec3 omega = rigid_->instrument_angular_velocity();
     const Vec3 v_com = rigid_->instrument_com_velocity();
     const Vec3 v_grip = v_com + omega.cross(grip.position - com);
-    reactions_[0] = BodyReaction{};
-    reactions_[0].reference_point = com;
+    particle_reactions_[0] = BodyReaction{};
+    particle_reactions_[0].reference_point = com;
     if (nucleus_ && instrument_->config().has_jaws()) {
       grasp_or_release(grip);
       carry_held(grip, v_grip, omega);
     }
     instrument_->world_colliders(grip, v_grip, omega, moving_, jaw_closure_, jaw_rate_);
     if (instrument_->config().has_jaws()) shake_off_jaws();
-    stepped_point_velocity_ = v_com;  // the reference point is the centre of mass here
-    stepped_angular_velocity_ = omega;
-    moving = moving_;
-    reactions = reactions_;
+    particle_point_velocity_ = v_com;  // the reference point is the centre of mass here
+    particle_angular_velocity_ = omega;
+    particle_colliders_ = moving_;
+    particle_reaction_span_ = particle_reactions_;
+  }
+  if (nucleus_) {
+    particle_bone_due_ = particle_worker_ && bone_sample_among(steps_ + 1, steps_ + nucleus_every_);
+    run_particle_step();
+  }
+  hand_on_particle_step();
+}
+
+void World::run_particle_step() {
+  particle_report_ = NumericalReport{};
+  nucleus_->step(nucleus_dt_s(), particle_colliders_, particle_reaction_span_, particle_report_);
+  if (!held_.empty()) add_held_reaction(nucleus_dt_s());
+  if (particle_bone_due_) gather_bone_cells(particle_bone_cells_, BoneLoadSample::kCapacity);
+}
+
+void World::hand_on_particle_step() {
+  particle_step_pending_ = false;
+  if (instrument_) {
+    reactions_[0] = particle_reactions_[0];
+    stepped_point_velocity_ = particle_point_velocity_;
+    stepped_angular_velocity_ = particle_angular_velocity_;
   }
   if (!nucleus_) return;
-  NumericalReport report;
-  nucleus_->step(nucleus_dt_s(), moving, reactions, report);
-  if (!held_.empty()) add_held_reaction(nucleus_dt_s());
-  frame_.solver_iterations = report.iterations;
-  count_removed();  // the particles move only in their steps: the counts hold until the next
-  if (!report.ok && !failed_) {
-    emit(EventKind::kNumerical, report.residual, report.stage);
+  if (particle_bone_due_) bone_cells_ = particle_bone_cells_;
+  frame_.solver_iterations = particle_report_.iterations;
+  // The particles move only in their steps: the counts hold until the next is handed on.
+  count_removed();
+  frame_.broken_bonds = static_cast<std::int32_t>(nucleus_->broken_bond_count());
+  frame_.active_particles = static_cast<std::int32_t>(nucleus_->active_count());
+  if (!particle_report_.ok && !failed_) {
+    emit(EventKind::kNumerical, particle_report_.residual, particle_report_.stage);
     failed_ = true;
   }
 }
 
-// Multi-rate: the step before a particle step does that step's neighbour rebuild, when one is
-// due, while nothing moves (the particles only move in their own steps), so the cost of a
-// rebuild is spread over two steps. Not with jaws in hand: a grasp at the start of the particle
-// step changes which particles are held before that step's rebuild would have been made.
+// Whether a bone sample falls at a step whose count (after it) is in [first, last].
+bool World::bone_sample_among(std::int64_t first, std::int64_t last) const {
+  if (bone_period_steps_ <= 0) return false;
+  const std::int64_t next = (first + bone_period_steps_ - 1) / bone_period_steps_;
+  return next * bone_period_steps_ <= last;
+}
+
+// After a due step: multi-rate, the step before the next particle step does its neighbour
+// rebuild, when one is due, while nothing moves (the particles only move in their own steps),
+// so the cost of a rebuild is spread over two steps. Not with jaws in hand: a grasp at the
+// start of the particle step changes which particles are held before that step's rebuild
+// would have been made. Pipelined: the next particle step is launched (and does its rebuild
+// itself).
 void World::prepare_nucleus() {
-  if (!nucleus_ || nucleus_every_ < 2 || !nucleus_due()) return;
-  if (instrument_ && instrument_->config().has_jaws()) return;
+  if (!nucleus_) return;
+  const bool jaws = instrument_ && instrument_->config().has_jaws();
+  if (particle_worker_) {
+    if ((steps_ - 1) % nucleus_every_ == 0 && !jaws && prediction_holds()) launch_particle_step();
+    return;
+  }
+  if (nucleus_every_ < 2 || !nucleus_due() || jaws) return;
   nucleus_->prepare_next_step();
+}
+
+// Pipelined: whether the instrument's path over the coming particle step can be told from its
+// present velocities closely enough: at most a quarter of the lattice spacing covered before
+// the due step (the working point's speed, turning included). Faster (a flick, a collision),
+// the due step runs its particle step itself, against the pose the instrument has then.
+bool World::prediction_holds() const {
+  if (!instrument_) return true;
+  const double lead_s = config_.solver.dt_s * static_cast<double>(nucleus_every_ - 1);
+  const Pose grip = rigid_->instrument_grip();
+  const Vec3 com = rigid_->instrument_com_world();
+  const Vec3 tip = grip.apply(instrument_->working_point());
+  const Vec3 v_tip = rigid_->instrument_com_velocity() +
+                     rigid_->instrument_angular_velocity().cross(tip - com);
+  return v_tip.norm() * lead_s <= 0.25 * config_.nucleus.spacing_m;
+}
+
+// Pipelined: the particle step of the next due step, launched now on the worker, against the
+// instrument where it will be then if it moves on at its present velocities (k - 1 steps on:
+// at 1 kHz and every 8th step, 7 ms, in which a hand's acceleration of 1 m/s^2 moves it 25 um
+// off the straight line, against a lattice of 500 um). Its reaction is about that predicted
+// centre of mass, its drag about the present velocities, which the due step's instrument
+// update then corrects to the velocities reached (step_instrument), as within one step.
+void World::launch_particle_step() {
+  particle_colliders_ = {};
+  particle_reaction_span_ = {};
+  if (instrument_) {
+    const double lead_s = config_.solver.dt_s * static_cast<double>(nucleus_every_ - 1);
+    const Pose grip = rigid_->instrument_grip();
+    const Vec3 com = rigid_->instrument_com_world();
+    const Vec3 omega = rigid_->instrument_angular_velocity();
+    const Vec3 v_com = rigid_->instrument_com_velocity();
+    const double turn_rad = omega.norm() * lead_s;
+    const Quat turn = turn_rad > 0.0 ? Quat(Eigen::AngleAxisd(turn_rad, omega.normalized()))
+                                     : Quat::Identity();
+    const Vec3 com_then = com + lead_s * v_com;
+    Pose grip_then;
+    grip_then.position = com_then + turn * (grip.position - com);
+    grip_then.orientation = (turn * grip.orientation).normalized();
+    const Vec3 v_grip_then = v_com + omega.cross(grip_then.position - com_then);
+    particle_reactions_[0] = BodyReaction{};
+    particle_reactions_[0].reference_point = com_then;
+    instrument_->world_colliders(grip_then, v_grip_then, omega, particle_moving_, jaw_closure_,
+                                 jaw_rate_);
+    particle_point_velocity_ = v_com;
+    particle_angular_velocity_ = omega;
+    particle_colliders_ = particle_moving_;
+    particle_reaction_span_ = particle_reactions_;
+  }
+  const std::int64_t due = steps_ - 1 + nucleus_every_;  // the step it is handed on at
+  particle_bone_due_ = bone_sample_among(due + 1, due + nucleus_every_);
+  particle_step_pending_ = true;
+  particle_launched_at_ = std::chrono::steady_clock::now();
+  particle_worker_->launch();
+}
+
+// Pipelined, between launch and hand-on: the j-th step after the launch does not end before
+// j / k of the time the last particle step took has passed since its launch (or the step in
+// flight has finished), so the wait for it is spread over the k steps instead of falling on
+// the due step. When the steps are paced by a clock (a live attempt) the worker runs while
+// they wait for their time, and none of them waits here.
+void World::pace_particle_step() {
+  const std::int64_t since = steps_ - (steps_ / nucleus_every_) * nucleus_every_;  // 1 .. k-1
+  const double share_s = particle_worker_->last_run_s() * static_cast<double>(since) /
+                         static_cast<double>(nucleus_every_);
+  particle_worker_->wait_until(particle_launched_at_ +
+                               std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(share_s)));
 }
 
 // instrument: the implicit update under the coupling, the nucleus's reaction and gravity, which
@@ -506,18 +630,14 @@ void World::record(const StepData& s) {
   frame_.feedback_force_N = s.feedback.force_N;
   frame_.nucleus_force_N = s.nucleus_force_N;
   frame_.contact_force_N = s.contact.force_N;
-  if (nucleus_) {
-    frame_.broken_bonds = static_cast<std::int32_t>(nucleus_->broken_bond_count());
-    frame_.active_particles = static_cast<std::int32_t>(nucleus_->active_count());
-  }
   bone_sampled_ = bone_period_steps_ > 0 && steps_ % bone_period_steps_ == 0;
   if (bone_sampled_) sample_bone_loads();
 }
 
 // The loads on each vertebra at this step: the instrument's contact points with the bone
-// meshes, and the particles' reaction on the bone grid gathered per cell of
-// bone_load_cell_m (the force summed, placed at the force-weighted mean of the particles,
-// each particle on the vertebra whose surface is nearer). Reads state only.
+// meshes, and the particles' reaction on the bone grid gathered per cell of bone_load_cell_m
+// (ParticleBoneCells): from the particles as they stand, or pipelined, as gathered beside the
+// steps after the particle step last handed on. Reads state only.
 void World::sample_bone_loads() {
   BoneLoadSample& out = bone_loads_;
   out.t_s = t_;
@@ -525,56 +645,19 @@ void World::sample_bone_loads() {
   out.dropped = 0;
   if (instrument_) rigid_->gather_mesh_contacts(config_.solver.dt_s, out);
   if (!nucleus_) return;
-  const int first_cell = out.count;
-  const double cell = config_.anatomy.bone_load_cell_m;
-  const auto forces = nucleus_->static_forces();
-  const auto x = nucleus_->positions();
-  const SignedDistanceGrid& c4 = anatomy_->vertebra_grid(VertebraLevel::kC4);
-  const SignedDistanceGrid& c5 = anatomy_->vertebra_grid(VertebraLevel::kC5);
-  for (std::size_t i = 0; i < forces.size(); ++i) {
-    const Vec3& f = forces[i];
-    const double w = f.norm();
-    if (!(w > 0.0)) continue;
-    const std::uint8_t vertebra = c4.distance(x[i]) <= c5.distance(x[i]) ? 0 : 1;
-    const Eigen::Array3d c = (x[i] / cell).array().floor();
-    // Cells within +-2^20 of the origin (2 km at 2 mm): a unique key per cell and vertebra.
-    const std::int64_t key = ((static_cast<std::int64_t>(c.x()) + (1 << 20)) << 42) |
-                             ((static_cast<std::int64_t>(c.y()) + (1 << 20)) << 21) |
-                             (static_cast<std::int64_t>(c.z()) + (1 << 20));
-    const std::int64_t full_key = key * 2 + vertebra;
-    int slot = first_cell;
-    while (slot < out.count && bone_cell_key_[slot] != full_key) ++slot;
-    if (slot == out.count) {
-      if (out.count >= BoneLoadSample::kCapacity) {
-        // Full: the nearest cell of the same vertebra takes it (keeps the total force).
-        double best = std::numeric_limits<double>::infinity();
-        slot = -1;
-        for (int k = first_cell; k < out.count; ++k) {
-          if (out.points[k].vertebra != vertebra || bone_cell_weight_[k] <= 0.0) continue;
-          const double d = (bone_cell_sum_[k] / bone_cell_weight_[k] - x[i]).squaredNorm();
-          if (d < best) best = d, slot = k;
-        }
-        if (slot < 0) continue;
-      } else {
-        BoneLoadPoint& p = out.points[out.count];
-        p.radius_m = static_cast<float>(0.5 * cell);
-        p.vertebra = vertebra;
-        p.source = BoneLoadSource::kNucleus;
-        bone_cell_key_[out.count] = full_key;
-        bone_cell_weight_[out.count] = 0.0;
-        bone_cell_sum_[out.count] = Vec3::Zero();
-        bone_cell_force_[out.count] = Vec3::Zero();
-        ++out.count;
-      }
-    }
-    bone_cell_force_[slot] += f;
-    bone_cell_sum_[slot] += w * x[i];
-    bone_cell_weight_[slot] += w;
+  if (particle_worker_) {
+    bone_cells_.append_to(out);
+    return;
   }
-  for (int k = first_cell; k < out.count; ++k) {
-    out.points[k].point_m = (bone_cell_sum_[k] / bone_cell_weight_[k]).cast<float>();
-    out.points[k].force_N = bone_cell_force_[k].cast<float>();
-  }
+  gather_bone_cells(bone_cells_, BoneLoadSample::kCapacity - out.count);
+  bone_cells_.append_to(out);
+}
+
+void World::gather_bone_cells(ParticleBoneCells& cells, int capacity) const {
+  cells.gather(nucleus_->static_forces(), nucleus_->positions(),
+               anatomy_->vertebra_grid(VertebraLevel::kC4),
+               anatomy_->vertebra_grid(VertebraLevel::kC5), config_.anatomy.bone_load_cell_m,
+               capacity);
 }
 
 // Into the next free slot (none left: dropped until the next drain). The text fits the
@@ -627,6 +710,7 @@ void World::drain_events(std::vector<Event>& out) {
 }
 
 bool World::is_removed(std::size_t i) const {
+  settle_particle_step();
   return outside_region(nucleus_->positions()[i], config_.removal.min_m, config_.removal.max_m);
 }
 
@@ -646,6 +730,7 @@ void World::count_removed() {
 }
 
 std::uint64_t World::state_hash() const {
+  settle_particle_step();
   std::uint64_t h = nucleus_ ? nucleus_->state_hash() : kFnvOffset;
   if (rigid_->has_instrument()) {
     const Pose g = rigid_->instrument_grip();

@@ -11,9 +11,19 @@
 // steps every dt under the particles' reaction held from their step, its drag part moved to the
 // instrument's velocity (the force less drag x the velocity gained since the particles' step),
 // so the held reaction stays implicit in the drag as within one step.
+//
+// Pipelined (SolverConfig::nucleus_pipelined): at the end of each due step the next particle
+// step is launched on a thread of its own (StepWorker), against the instrument where it will
+// be at that step if it moves on at its present velocities, and it is handed on at that step
+// as if it had run there: its reaction, the removed counts, its iterations and trouble. The
+// steps between keep pace with it (each waits for at most its share of it), so no step waits
+// the whole of it out. Whatever reads the particles between (nucleus(), is_removed(),
+// state_hash(), an instrument exchange) first waits for the step in flight and sees the
+// particles as it leaves them. With jaws in hand each particle step runs at its own step.
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -23,6 +33,7 @@
 #include "engine/anatomy/anatomy.hpp"
 #include "engine/core/bone_load.hpp"
 #include "engine/core/frame.hpp"
+#include "engine/core/step_worker.hpp"
 #include "engine/devices/device_guard.hpp"
 #include "engine/devices/input_device.hpp"
 #include "engine/geometry/collider.hpp"
@@ -30,6 +41,7 @@
 #include "engine/rigid/instrument.hpp"
 #include "engine/rigid/instrument_dynamics.hpp"
 #include "engine/rigid/rigid_world.hpp"
+#include "engine/world/particle_bone_cells.hpp"
 #include "engine/world/world_config.hpp"
 
 namespace acdr {
@@ -87,7 +99,11 @@ class World {
   const WorldSummary& summary() const { return summary_; }
   const Frame& last_frame() const { return frame_; }
   const StageTimes& stage_times() const { return times_; }
-  const Nucleus* nucleus() const { return nucleus_.get(); }
+  /// The particles, once a pipelined particle step in flight has finished.
+  const Nucleus* nucleus() const {
+    settle_particle_step();
+    return nucleus_.get();
+  }
   /// The anatomical scene (vertebrae, grids, zones), or null without anatomy.
   const Anatomy* anatomy() const { return anatomy_.get(); }
   /// The instrument in hand, or null without one.
@@ -119,6 +135,19 @@ class World {
   /// The particles' step: nucleus_every World steps.
   double nucleus_dt_s() const { return config_.solver.dt_s * static_cast<double>(nucleus_every_); }
   void prepare_nucleus();
+  /// The particle step against particle_moving_, into particle_reactions_ and particle_report_
+  /// (what the StepWorker runs when pipelined).
+  void run_particle_step();
+  /// Hands the finished particle step's results on to the instrument and the frame.
+  void hand_on_particle_step();
+  bool prediction_holds() const;
+  void launch_particle_step();
+  void pace_particle_step();
+  bool bone_sample_among(std::int64_t first, std::int64_t last) const;
+  /// Waits for a pipelined particle step in flight (at once when none is).
+  void settle_particle_step() const {
+    if (particle_worker_) particle_worker_->wait();
+  }
   void step_instrument(StepData& s);
   void send_feedback(StepData& s);
   void record(const StepData& s);
@@ -135,6 +164,7 @@ class World {
   void evaluate_zones_and_emit(const Vec3& tissue_force_N);
   void count_removed();
   void sample_bone_loads();
+  void gather_bone_cells(ParticleBoneCells& cells, int capacity) const;
   void emit(EventKind kind, double value, const char* detail);
 
   WorldConfig config_;
@@ -152,7 +182,7 @@ class World {
   CouplingGains coupling_;  // the coupling's gains, critical damping resolved
 
   std::vector<Collider> moving_;        // instrument colliders, world frame (capacity fixed)
-  std::vector<BodyReaction> reactions_; // one per moving body
+  std::vector<BodyReaction> reactions_; // one per moving body, as the instrument holds them
   // Event slots (kMaxPendingEvents), [0, pending_events_) pending; each slot's text keeps
   // room for the longest text the world can emit, so emitting allocates nothing.
   std::vector<Event> events_;
@@ -188,14 +218,29 @@ class World {
   std::array<std::uint8_t, kMaxZones> zone_force_active_{};
   Quat last_target_orientation_ = Quat::Identity();
   // Bone loads (AnatomyConfig::bone_load_period_s): the sample, its period in steps, and the
-  // nucleus cells' keys and weights while gathering (fixed capacity).
+  // particles' part (pipelined: as handed on with the last particle step).
   BoneLoadSample bone_loads_;
   bool bone_sampled_ = false;
   std::int64_t bone_period_steps_ = 0;
-  std::array<std::int64_t, BoneLoadSample::kCapacity> bone_cell_key_{};
-  std::array<double, BoneLoadSample::kCapacity> bone_cell_weight_{};
-  std::array<Vec3, BoneLoadSample::kCapacity> bone_cell_sum_{};    // weighted positions
-  std::array<Vec3, BoneLoadSample::kCapacity> bone_cell_force_{};  // summed forces
+  ParticleBoneCells bone_cells_;
+  // The particle step's own inputs and outputs: the colliders it steps against (a copy when
+  // pipelined; capacity fixed), the reactions it gathers, its report, the instrument's
+  // velocities at its launch, and whether one was launched and not yet handed on.
+  std::vector<Collider> particle_moving_;
+  std::vector<BodyReaction> particle_reactions_;
+  std::span<const Collider> particle_colliders_;
+  std::span<BodyReaction> particle_reaction_span_;
+  NumericalReport particle_report_;
+  Vec3 particle_point_velocity_ = Vec3::Zero();
+  Vec3 particle_angular_velocity_ = Vec3::Zero();
+  bool particle_step_pending_ = false;
+  std::chrono::steady_clock::time_point particle_launched_at_{};
+  // Pipelined with bone loads: the particle step in flight gathers its reaction on the bone
+  // (when a sample will read it) into particle_bone_cells_.
+  bool particle_bone_due_ = false;
+  ParticleBoneCells particle_bone_cells_;
+  // Pipelined particle steps' worker (null otherwise); last, so it is ended first.
+  std::unique_ptr<StepWorker> particle_worker_;
 };
 
 }  // namespace acdr

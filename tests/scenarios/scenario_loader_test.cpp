@@ -245,6 +245,7 @@ TEST(ScenarioLoader, EveryModelFieldIsSettableFromTheFile) {
   const SolverConfig& sd = d.world.solver;
   EXPECT_NE(w.solver.dt_s, sd.dt_s);
   EXPECT_NE(w.solver.nucleus_every, sd.nucleus_every);
+  EXPECT_NE(w.solver.nucleus_pipelined, sd.nucleus_pipelined);
   EXPECT_NE(w.solver.max_iterations, sd.max_iterations);
   EXPECT_NE(w.solver.tolerance, sd.tolerance);
   EXPECT_NE(w.solver.sleep_enabled, sd.sleep_enabled);

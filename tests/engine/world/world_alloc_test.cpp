@@ -4,6 +4,8 @@
 // world, Bullet's first contact manifolds) are allowed; none after.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <string>
 #include <vector>
 
@@ -44,12 +46,14 @@ DeviceSample settle(World& w, const Vec3& at, int instrument = -1) {
   return s;
 }
 
-// The particles at every step, and every second step (multi-rate: the step between builds the
-// rows the next one would rebuild).
+// The particles at every step, every second step (multi-rate: the step between builds the
+// rows the next one would rebuild), and every third step pipelined on the worker thread (a
+// pipelined run's allocations, the worker's included, are counted as the stepping thread's).
 TEST(WorldAllocation, StepAllocatesNothing) {
-  for (const int every : {1, 2}) {
+  for (const int every : {1, 2, -3}) {
     WorldConfig c = small_box();
-    c.solver.nucleus_every = every;
+    c.solver.nucleus_every = std::abs(every);
+    c.solver.nucleus_pipelined = every < 0;
     World w(c);
     DeviceSample s = settle(w, Vec3(-2e-3, 0, 0.057));
     const long before = test_support::heap_allocations();
