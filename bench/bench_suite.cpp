@@ -32,9 +32,12 @@ std::string acdr_settings_text(double dt, double tol, double h) {
          "mm";
 }
 
-/// The multi-rate setting for a point's label: empty when the particles step at every step.
-std::string nucleus_every_text(int every) {
-  return every > 1 ? " nucleus every " + std::to_string(every) : std::string();
+/// The multi-rate setting for a point's label: empty when the particles step at every step,
+/// unpipelined.
+std::string nucleus_every_text(const SolverConfig& solver) {
+  return (solver.nucleus_every > 1 ? " nucleus every " + std::to_string(solver.nucleus_every)
+                                   : std::string()) +
+         (solver.nucleus_pipelined ? " pipelined" : "");
 }
 
 /// Parts of a C4-C5 scene that the box module does not declare (two vertebral bodies, the
@@ -287,6 +290,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
            rs.tolerance = grid.reference_tolerance;
            rs.max_iterations = grid.reference_max_iterations;
            rs.nucleus_every = 1;  // the particles at the reference's own step
+           rs.pipelined = 0;      // and their reaction in the same step
            // Sleep is a skip: a scene that lets particles sleep nearer the instrument, or
            // moving faster, than the engine's defaults is measured against a reference that
            // does not.
@@ -304,16 +308,18 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
            p.is_reference = true;
            rep.points.push_back(p);
          }});
-    auto add_acdr = [&, h, steps](double dt, double tol, double spacing, bool is_default) {
+    auto add_acdr = [&, h, steps](double dt, double tol, double spacing, bool is_default,
+                                  int pipelined = -1) {
       const double weight =
           steps * (1e-3 / dt) * std::pow(h / spacing, 3.0) * std::max(1, grid.timing_runs);
       jobs.push_back({sc.scene.name + ": acdr " + acdr_settings_text(dt, tol, spacing), weight,
-                      [&, dt, tol, spacing, is_default](const auto& progress) {
+                      [&, dt, tol, spacing, is_default, pipelined](const auto& progress) {
                         RunSettings s;
                         s.dt_s = dt;
                         s.tolerance = tol;
                         s.spacing_m = spacing;
-                        if (!is_default) s.max_iterations = grid.reference_max_iterations;
+                        s.pipelined = pipelined;
+                        if (!is_default && pipelined < 0) s.max_iterations = grid.reference_max_iterations;
                         const WorldConfig config = apply_settings(base, s);
                         const int runs = std::max(1, grid.timing_runs);
                         auto part = [&](int r) {
@@ -345,7 +351,7 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
                         p.tolerance = tol;
                         p.spacing_m = spacing;
                         p.settings = acdr_settings_text(dt, tol, spacing) +
-                                     nucleus_every_text(config.solver.nucleus_every) +
+                                     nucleus_every_text(config.solver) +
                                      (is_default ? " (default)" : "");
                         p.is_default = is_default;
                         rep.points.push_back(p);
@@ -364,6 +370,9 @@ bool run_bench_suite(const BenchConfig& config, BenchReport* report, std::string
     if (sc.scene.spacing_sweep)
       for (double f : grid.spacing_factors)
         add_acdr(base.solver.dt_s, base.solver.tolerance, f * h, false);
+    if (sc.scene.pipelined_point)
+      add_acdr(base.solver.dt_s, base.solver.tolerance, h, false,
+               base.solver.nucleus_pipelined ? 0 : 1);
 
     // The peer, on the reference's instrument path, at the same lattice (one node per
     // particle, one link per bond).

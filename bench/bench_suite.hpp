@@ -29,6 +29,9 @@ struct BenchScene {
   /// false: the grid's finer and coarser lattices are not run on this scene (a scene whose
   /// lattice is the target itself: at x0.5 it would be eight times the particles).
   bool spacing_sweep = true;
+  /// Also a point at the scene's own settings with its particle steps pipelined (the other way
+  /// round when the scene pipelines them): the same step, its cost and error side by side.
+  bool pipelined_point = false;
   /// Trajectory time every work-precision run (the reference's and each point's) starts at,
   /// before its window: a time when the instrument is still outside the material, so that the
   /// window starts from the state the run reached by itself, as in an attempt, not from a

@@ -48,13 +48,13 @@ std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& win
   Vec3 f_sum = Vec3::Zero();
   int f_count = 0;
   auto start = Clock::now();
-  double cpu_start = thread_cpu_s();
+  double cpu_start = process_cpu_s();
   std::int64_t ran = 0;
   for (std::int64_t k = 0; k < total; ++k) {
     const std::int64_t kw = k - lead;  // step in the window (negative in the lead)
     if (kw == window.warmup_steps) {
       start = Clock::now();
-      cpu_start = thread_cpu_s();
+      cpu_start = process_cpu_s();
     }
     const auto step_start = Clock::now();
     const LoopStep s = step(k);
@@ -86,7 +86,7 @@ std::int64_t run_timed_loop(double duration_s, double dt_s, const RunWindow& win
     if (s.stop) break;
     if (progress && (k % 250 == 0)) progress(double(k) / double(total));
   }
-  out.cpu_s = thread_cpu_s() - cpu_start;
+  out.cpu_s = process_cpu_s() - cpu_start;
   out.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
   out.timed_steps = std::max<std::int64_t>(0, ran - window.warmup_steps);
   out.p99_step_wall_s = nearest_rank_percentile(step_wall, 0.99);

@@ -9,9 +9,9 @@
 
 namespace acdr {
 
-double thread_cpu_s() {
+double process_cpu_s() {
   timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
@@ -40,6 +40,7 @@ WorldConfig apply_settings(const WorldConfig& base, const RunSettings& s) {
   if (s.sleep_distance_m > 0.0) c.solver.sleep_distance_m = s.sleep_distance_m;
   if (s.sleep_speed_m_s > 0.0) c.solver.sleep_speed_m_s = s.sleep_speed_m_s;
   if (s.nucleus_every > 0) c.solver.nucleus_every = s.nucleus_every;
+  if (s.pipelined >= 0) c.solver.nucleus_pipelined = s.pipelined != 0;
   return c;
 }
 

@@ -26,6 +26,7 @@ struct RunSettings {
   double sleep_distance_m = 0.0;  ///< particles this near a moving collider stay awake, m
   double sleep_speed_m_s = 0.0;   ///< particles slower than this may sleep, m/s (0: the scene's)
   int nucleus_every = 0;       ///< the particles step every this many steps; 0: the scene's
+  int pipelined = -1;          ///< 1/0: pipelined particle steps on/off; -1: the scene's setting
 };
 
 /// Applies `s` to a copy of `base`.
@@ -65,7 +66,7 @@ struct RunTrace {
   std::size_t bonds = 0;
   double sim_s = 0.0;               ///< simulated time of the window (the lead not counted)
   double wall_s = 0.0;              ///< wall time of the stepping loop (after the warm-up)
-  double cpu_s = 0.0;               ///< CPU time of this thread in the loop (robust on a shared machine)
+  double cpu_s = 0.0;               ///< CPU time of the process in the loop, every thread (robust on a shared machine)
   double max_step_wall_s = 0.0;     ///< slowest single step, wall
   double p99_step_wall_s = 0.0;     ///< 99th percentile of the timed steps' wall times
   std::int64_t steps = 0;           ///< steps in the window (the lead not counted)
@@ -100,8 +101,9 @@ struct PathMotion {
   Vec3 angular_velocity_rad_s = Vec3::Zero();  ///< reaching its orientation dt later
 };
 
-/// CPU time of the calling thread, s.
-double thread_cpu_s();
+/// CPU time of the whole process, s: every thread's, so a pipelined particle step's worker is
+/// counted with the stepping thread (the bench runs nothing else beside its runs).
+double process_cpu_s();
 
 /// Pose along a recorded path at time t after its start: path[k] is the pose at
 /// (k + 1) * sample_s, `start` the pose at 0; linear in position, slerp in orientation.

@@ -43,6 +43,7 @@ int run_bench(const BenchOptions& options, std::ostream& out, std::ostream& err)
     BenchScene full{"c4c5_full", "bench/scenes/c4c5_full_disc.json",
                     "bench/scenes/c4c5_scoop.csv", 1.5};
     full.spacing_sweep = false;
+    full.pipelined_point = true;
     for (BenchScene* s : {&box, &c4c5, &full}) {
       s->run_from_s = kRunFrom;
       config.scenes.push_back(*s);
