@@ -66,8 +66,8 @@ unsigned set_contact_constraint(StepContacts& contacts, std::size_t slot, const 
 
 void constrain_contact_hits(StepContacts& contacts, std::size_t slot, WallHit* hits,
                             std::size_t w0, std::size_t end) {
-  Vec3 cn[3];
-  double ct[3];
+  Vec3 cn[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+  double ct[3] = {0.0, 0.0, 0.0};  // only [0, nc) of these is read; set so GCC sees that
   WallHit* ch[3];
   int nc = 0;
   for (std::size_t h = w0; h < end && nc < 3; ++h) {
