@@ -31,7 +31,6 @@ class StepWorker {
   bool wait_until(std::chrono::steady_clock::time_point deadline);
   /// The wall time of the last finished run, s.
   double last_run_s() const { return last_run_s_; }
-  bool own_thread() const { return thread_.joinable(); }
 
  private:
   void loop();

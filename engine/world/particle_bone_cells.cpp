@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 #include "engine/geometry/signed_distance_grid.hpp"
 
@@ -64,19 +65,19 @@ void ParticleBoneCells::gather(std::span<const Vec3> forces, std::span<const Vec
 void ParticleBoneCells::append_to(BoneLoadSample& out) const {
   const int room = std::max(0, BoneLoadSample::kCapacity - out.count);
   const ParticleBoneCells* cells = this;
-  ParticleBoneCells merged;
+  std::optional<ParticleBoneCells> merged;  // made only when the cells do not fit
   if (count > room) {
     // Too many: the cells beyond the room join the nearest kept cell of their vertebra.
-    merged = *this;
-    merged.count = room;
+    merged.emplace(*this);
+    merged->count = room;
     for (int k = room; k < count; ++k) {
-      const int slot = nearest_cell(merged, room, vertebra[k], sum[k] / weight[k]);
+      const int slot = nearest_cell(*merged, room, vertebra[k], sum[k] / weight[k]);
       if (slot < 0) continue;
-      merged.force[slot] += force[k];
-      merged.sum[slot] += sum[k];
-      merged.weight[slot] += weight[k];
+      merged->force[slot] += force[k];
+      merged->sum[slot] += sum[k];
+      merged->weight[slot] += weight[k];
     }
-    cells = &merged;
+    cells = &*merged;
   }
   for (int k = 0; k < cells->count; ++k) {
     BoneLoadPoint& p = out.points[out.count++];

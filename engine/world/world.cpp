@@ -461,26 +461,11 @@ void World::prepare_nucleus() {
   if (!nucleus_) return;
   const bool jaws = instrument_ && instrument_->config().has_jaws();
   if (particle_worker_) {
-    if ((steps_ - 1) % nucleus_every_ == 0 && !jaws && prediction_holds()) launch_particle_step();
+    if ((steps_ - 1) % nucleus_every_ == 0 && !jaws) launch_particle_step();
     return;
   }
   if (nucleus_every_ < 2 || !nucleus_due() || jaws) return;
   nucleus_->prepare_next_step();
-}
-
-// Pipelined: whether the instrument's path over the coming particle step can be told from its
-// present velocities closely enough: at most a quarter of the lattice spacing covered before
-// the due step (the working point's speed, turning included). Faster (a flick, a collision),
-// the due step runs its particle step itself, against the pose the instrument has then.
-bool World::prediction_holds() const {
-  if (!instrument_) return true;
-  const double lead_s = config_.solver.dt_s * static_cast<double>(nucleus_every_ - 1);
-  const Pose grip = rigid_->instrument_grip();
-  const Vec3 com = rigid_->instrument_com_world();
-  const Vec3 tip = grip.apply(instrument_->working_point());
-  const Vec3 v_tip = rigid_->instrument_com_velocity() +
-                     rigid_->instrument_angular_velocity().cross(tip - com);
-  return v_tip.norm() * lead_s <= 0.25 * config_.nucleus.spacing_m;
 }
 
 // Pipelined: the particle step of the next due step, launched now on the worker, against the
@@ -489,6 +474,9 @@ bool World::prediction_holds() const {
 // off the straight line, against a lattice of 500 um). Its reaction is about that predicted
 // centre of mass, its drag about the present velocities, which the due step's instrument
 // update then corrects to the velocities reached (step_instrument), as within one step.
+// Launched only while that prediction holds: the working point (turning included) covers at
+// most a quarter of the lattice spacing before the due step. Faster (a flick, a collision),
+// the due step runs its particle step itself, against the pose the instrument has then.
 void World::launch_particle_step() {
   particle_colliders_ = {};
   particle_reaction_span_ = {};
@@ -498,6 +486,8 @@ void World::launch_particle_step() {
     const Vec3 com = rigid_->instrument_com_world();
     const Vec3 omega = rigid_->instrument_angular_velocity();
     const Vec3 v_com = rigid_->instrument_com_velocity();
+    const Vec3 v_tip = v_com + omega.cross(grip.apply(instrument_->working_point()) - com);
+    if (v_tip.norm() * lead_s > 0.25 * config_.nucleus.spacing_m) return;
     const double turn_rad = omega.norm() * lead_s;
     const Quat turn = turn_rad > 0.0 ? Quat(Eigen::AngleAxisd(turn_rad, omega.normalized()))
                                      : Quat::Identity();
@@ -528,7 +518,7 @@ void World::launch_particle_step() {
 // the due step. When the steps are paced by a clock (a live attempt) the worker runs while
 // they wait for their time, and none of them waits here.
 void World::pace_particle_step() {
-  const std::int64_t since = steps_ - (steps_ / nucleus_every_) * nucleus_every_;  // 1 .. k-1
+  const std::int64_t since = steps_ % nucleus_every_;  // 1 .. k-1
   const double share_s = particle_worker_->last_run_s() * static_cast<double>(since) /
                          static_cast<double>(nucleus_every_);
   particle_worker_->wait_until(particle_launched_at_ +

@@ -140,7 +140,6 @@ class World {
   void run_particle_step();
   /// Hands the finished particle step's results on to the instrument and the frame.
   void hand_on_particle_step();
-  bool prediction_holds() const;
   void launch_particle_step();
   void pace_particle_step();
   bool bone_sample_among(std::int64_t first, std::int64_t last) const;

@@ -4,8 +4,6 @@
 // world, Bullet's first contact manifolds) are allowed; none after.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-
 #include <string>
 #include <vector>
 
@@ -50,10 +48,15 @@ DeviceSample settle(World& w, const Vec3& at, int instrument = -1) {
 // rows the next one would rebuild), and every third step pipelined on the worker thread (a
 // pipelined run's allocations, the worker's included, are counted as the stepping thread's).
 TEST(WorldAllocation, StepAllocatesNothing) {
-  for (const int every : {1, 2, -3}) {
+  struct Rate {
+    int every;
+    bool pipelined;
+  };
+  for (const Rate rate : {Rate{1, false}, Rate{2, false}, Rate{3, true}}) {
+    const int every = rate.every;
     WorldConfig c = small_box();
-    c.solver.nucleus_every = std::abs(every);
-    c.solver.nucleus_pipelined = every < 0;
+    c.solver.nucleus_every = every;
+    c.solver.nucleus_pipelined = rate.pipelined;
     World w(c);
     DeviceSample s = settle(w, Vec3(-2e-3, 0, 0.057));
     const long before = test_support::heap_allocations();
@@ -69,7 +72,8 @@ TEST(WorldAllocation, StepAllocatesNothing) {
     ASSERT_FALSE(w.failed()) << every;
     // The scoop did exercise the nucleus: the blade met the material.
     EXPECT_GT(w.last_frame().active_particles, 0) << every;
-    EXPECT_EQ(during, 0) << "heap allocations inside World::step, particles every " << every;
+    EXPECT_EQ(during, 0) << "heap allocations inside World::step, particles every " << every
+                         << (rate.pipelined ? ", pipelined" : "");
   }
 }
 
