@@ -36,6 +36,16 @@ void particles(std::vector<Vec3>& x, std::vector<Vec3>& f) {
   f.emplace_back(0.0, 0.0, 0.0);
 }
 
+// The particles above gathered on the slabs into cells of `cell_m`, at most `capacity`.
+ParticleBoneCells gathered(double cell_m, int capacity) {
+  const Slabs slabs;
+  std::vector<Vec3> x, f;
+  particles(x, f);
+  ParticleBoneCells cells;
+  cells.gather(f, x, slabs.c4, slabs.c5, cell_m, capacity);
+  return cells;
+}
+
 Vec3 total(const BoneLoadSample& s, int from) {
   Vec3 t = Vec3::Zero();
   for (int k = from; k < s.count; ++k) t += s.points[k].force_N.cast<double>();
@@ -43,11 +53,7 @@ Vec3 total(const BoneLoadSample& s, int from) {
 }
 
 TEST(ParticleBoneCells, EachCellOnItsVertebraAtTheWeightedMean) {
-  const Slabs slabs;
-  std::vector<Vec3> x, f;
-  particles(x, f);
-  ParticleBoneCells cells;
-  cells.gather(f, x, slabs.c4, slabs.c5, 2e-3, ParticleBoneCells::kCapacity);
+  const ParticleBoneCells cells = gathered(2e-3, ParticleBoneCells::kCapacity);
   // 4 x 4 cells of 2 mm in x and y, on each of the two vertebrae.
   ASSERT_EQ(cells.count, 32);
   BoneLoadSample s;
@@ -84,11 +90,7 @@ TEST(ParticleBoneCells, EachCellOnItsVertebraAtTheWeightedMean) {
 // A sample that already holds instrument points has room for fewer cells: the ones beyond it
 // join the nearest kept cell of their vertebra, so each vertebra's total force is kept.
 TEST(ParticleBoneCells, CellsBeyondTheRoomJoinTheNearestAndKeepTheForce) {
-  const Slabs slabs;
-  std::vector<Vec3> x, f;
-  particles(x, f);
-  ParticleBoneCells cells;
-  cells.gather(f, x, slabs.c4, slabs.c5, 1e-3, ParticleBoneCells::kCapacity);
+  const ParticleBoneCells cells = gathered(1e-3, ParticleBoneCells::kCapacity);
   ASSERT_EQ(cells.count, 128);  // 8 x 8 cells of 1 mm on each vertebra
   BoneLoadSample all, tight;
   cells.append_to(all);
@@ -105,8 +107,7 @@ TEST(ParticleBoneCells, CellsBeyondTheRoomJoinTheNearestAndKeepTheForce) {
     if (tight.points[k].vertebra == 0) c4_tight += tight.points[k].force_N.z();
   EXPECT_NEAR(c4_tight, c4_all, 1e-6);
   // Gathering into fewer cells than it needs keeps the force the same way.
-  ParticleBoneCells few;
-  few.gather(f, x, slabs.c4, slabs.c5, 1e-3, 20);
+  const ParticleBoneCells few = gathered(1e-3, 20);
   EXPECT_EQ(few.count, 20);
   BoneLoadSample s;
   few.append_to(s);
