@@ -270,6 +270,15 @@ void Nucleus::prepare_next_step() {
   if (!state_.x.empty()) nucleus::prepare_rows(model_, state_, work_.rows);
 }
 
+void Nucleus::reserve_rows_ahead() { nucleus::reserve_rows_ahead(model_, work_); }
+bool Nucleus::begin_rows_ahead() { return nucleus::begin_rows_ahead(model_, state_, work_); }
+void Nucleus::build_rows_ahead(double share) {
+  nucleus::build_rows_ahead(model_, work_.ahead, share);
+}
+bool Nucleus::adopt_rows_ahead() { return nucleus::adopt_rows_ahead(model_, state_, work_); }
+std::size_t Nucleus::rows_ahead_adopted() const { return work_.ahead.adopted; }
+std::size_t Nucleus::grid_builds() const { return work_.rows.grid_builds; }
+
 std::uint64_t Nucleus::state_hash() const {
   std::uint64_t h = kFnvOffset;
   if (!state_.x.empty()) {

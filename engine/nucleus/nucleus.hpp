@@ -98,6 +98,20 @@ class Nucleus {
   /// neighbour grid and rows that the next step would rebuild, so that step does not carry
   /// them; the same rows from the same positions, so the same results bit for bit.
   void prepare_next_step();
+  /// Pipelined multi-rate worlds: the neighbour grid and rows a coming particle step would
+  /// rebuild, made ahead beside the step in flight instead of inside a step. reserve once;
+  /// begin (at a launch, when the grid in use will probably not hold two particle steps more)
+  /// and adopt (at the next launch, when it still holds) between steps, with no step in
+  /// flight; build_rows_ahead(share) builds the rows up to that share of the awake particles
+  /// and may run while step() runs on another thread (it reads only the copy begin took).
+  /// The rows are those a rebuild at the launch's positions makes, so the run is the same on
+  /// one thread or two.
+  void reserve_rows_ahead();
+  bool begin_rows_ahead();
+  void build_rows_ahead(double share);
+  bool adopt_rows_ahead();
+  std::size_t rows_ahead_adopted() const;  ///< grids adopted so far
+  std::size_t grid_builds() const;         ///< grids built in a step or adopted so far
   /// The pull of particle i's intact bonds built with the lattice on it (N): the sum of
   /// k (r - L) along the bond toward the other particle, at the current positions.
   Vec3 bond_pull_N(std::size_t i) const;

@@ -179,6 +179,8 @@ void build_bond_table(NucleusModel& model, const NucleusParticleSetup& setup) {
   }
 }
 
+}  // namespace
+
 // The Verlet rows: every particle's row once per grid build, with room for 50 % compression.
 void reserve_rows(const NucleusModel& model, std::size_t n, VerletRows& rows) {
   std::size_t lattice = 0;  // lattice sites within R + skin
@@ -209,6 +211,8 @@ void reserve_rows(const NucleusModel& model, std::size_t n, VerletRows& rows) {
   rows.used = 0;
   rows.partner_bond.assign(n, -1);
 }
+
+namespace {
 
 void reserve_pairs(const NucleusModel& model, std::size_t n, NucleusWorkspace& work) {
   PairList& pairs = work.pairs;

@@ -21,7 +21,8 @@ namespace acdr::nucleus {
 // ones; this one tolerates a few fast particles among slow ones). Only awake and kinematic
 // particles move; those that fell asleep keep the displacement they had
 // (rows.frozen_disp2).
-void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRows& rows) {
+double verlet_displacement_bound(const NucleusModel& model, const NucleusState& state,
+                                 const VerletRows& rows) {
   // The two largest squared displacements.
   double m1 = rows.frozen_disp2[0], m2 = rows.frozen_disp2[1];
   auto note = [&](std::int32_t i) {
@@ -37,7 +38,21 @@ void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRo
   };
   for (std::size_t k = 0; k < state.active_count; ++k) note(state.active[k]);
   for (const std::int32_t i : state.kinematic_list) note(i);
-  rows.disp_bound = std::sqrt(m1) + std::sqrt(m2);
+  return std::sqrt(m1) + std::sqrt(m2);
+}
+
+// Re-sorts the awake list by particle index (it grows by appending between builds), which
+// keeps the local numbering close to the lattice order.
+void sort_awake_list(NucleusState& state) {
+  if (state.active_count == 0) return;
+  std::size_t n_awake = 0;
+  for (std::size_t i = 0; i < state.x.size(); ++i)
+    if (state.awake[i]) state.active[n_awake++] = static_cast<std::int32_t>(i);
+  state.active_count = n_awake;
+}
+
+void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRows& rows) {
+  rows.disp_bound = verlet_displacement_bound(model, state, rows);
   const bool rebuild = !rows.grid_valid || !(rows.disp_bound < model.skin);
   if (!rebuild) return;
   rows.disp_bound = 0.0;
@@ -49,14 +64,7 @@ void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRo
   rows.used = 0;
   rows.grid_valid = true;
   ++rows.grid_builds;
-  // Re-sort the awake list by particle index (it grows by appending between builds), which
-  // keeps the local numbering close to the lattice order.
-  if (state.active_count > 0) {
-    std::size_t n_awake = 0;
-    for (std::size_t i = 0; i < state.x.size(); ++i)
-      if (state.awake[i]) state.active[n_awake++] = static_cast<std::int32_t>(i);
-    state.active_count = n_awake;
-  }
+  sort_awake_list(state);
 }
 
 namespace {
@@ -72,17 +80,18 @@ std::int32_t reformed_other(const NucleusState& state, std::int32_t s, std::int3
 // Row i's bonds by partner in rows.partner_bond (a live bond wins over a broken one between the
 // same particles; re-formed bonds are index B + slot, only between particles without a live
 // built bond), or (set = false) those marks cleared again.
-void mark_partners(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+void mark_partners(const NucleusModel& model, const RowInputs& in, VerletRows& rows,
                    std::int32_t i, bool set) {
   for (std::int32_t k = model.bonds.adj_start[i]; k < model.bonds.adj_start[i + 1]; ++k) {
     const std::int32_t b = model.bonds.adj[k];
     const std::int32_t other = model.bonds.other(b, i);
     if (!set)
       rows.partner_bond[other] = -1;
-    else if (rows.partner_bond[other] < 0 || !state.bond_alive[rows.partner_bond[other]])
+    else if (rows.partner_bond[other] < 0 || !in.bond_alive[rows.partner_bond[other]])
       rows.partner_bond[other] = b;
   }
   if (!model.rebonding) return;
+  const NucleusState& state = *in.reformed_of;
   const std::int32_t* reformed_of = state.reformed.of.data() + static_cast<std::size_t>(i) * kReformed;
   for (int a = 0; a < kReformed; ++a)
     if (const std::int32_t s = reformed_of[a]; s >= 0)
@@ -98,11 +107,11 @@ enum class RowPart { kWhole, kUpper, kLower };
 // the last grid build (above i for the upper part, below it for the lower), with the bond
 // between them (-1 if none), and sets where they are. Returns false, having appended nothing,
 // when an upper part is asked for and the whole row is too long to order (see below).
-bool row_part(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+bool row_part(const NucleusModel& model, const RowInputs& in, VerletRows& rows,
               std::int32_t i, RowPart part, bool& overflow) {
   const double reach = model.radius + model.skin;
   const double reach2 = reach * reach;
-  mark_partners(model, state, rows, i, true);
+  mark_partners(model, in, rows, i, true);
   const std::size_t start = rows.used;
   const std::size_t cap = rows.j.size();
   const Vec3 xi = rows.x_built[i];
@@ -144,7 +153,7 @@ bool row_part(const NucleusModel& model, const NucleusState& state, VerletRows& 
   } else {
     rows.grid.for_each_within(xi, reach2, keep);
   }
-  mark_partners(model, state, rows, i, false);
+  mark_partners(model, in, rows, i, false);
   const std::size_t len = rows.used - start;
   if (part == RowPart::kUpper && len + left > scratch) {
     rows.used = start;
@@ -200,30 +209,39 @@ bool row_part(const NucleusModel& model, const NucleusState& state, VerletRows& 
 // its own row, and there is no halo), so a row's lower part is then left until a step does
 // (ensure_lower_part): the same entries in the same order, from the same grid and bonds. Not
 // with re-bonding, whose bonds change inside a grid build, nor on periodic axes.
-void ensure_row(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+void ensure_row(const NucleusModel& model, const RowInputs& in, VerletRows& rows,
                 std::int32_t i, bool& overflow) {
   if (rows.epoch_of[i] == rows.epoch) return;
   rows.epoch_of[i] = rows.epoch;
-  const bool defer =
-      !model.rebonding && !model.periodic && state.active_count == state.x.size();
-  if (defer && row_part(model, state, rows, i, RowPart::kUpper, overflow)) return;
-  row_part(model, state, rows, i, RowPart::kWhole, overflow);
+  const bool defer = !model.rebonding && !model.periodic && in.all_awake;
+  if (defer && row_part(model, in, rows, i, RowPart::kUpper, overflow)) return;
+  row_part(model, in, rows, i, RowPart::kWhole, overflow);
 }
 
 // The lower part of row i (its row is current), if it was left for later.
-void ensure_lower_part(const NucleusModel& model, const NucleusState& state, VerletRows& rows,
+void ensure_lower_part(const NucleusModel& model, const RowInputs& in, VerletRows& rows,
                        std::int32_t i, bool& overflow) {
-  if (rows.lower_at[i] < 0) row_part(model, state, rows, i, RowPart::kLower, overflow);
+  if (rows.lower_at[i] < 0) row_part(model, in, rows, i, RowPart::kLower, overflow);
 }
 
 }  // namespace
+
+RowInputs row_inputs(const NucleusState& state) {
+  return {state.bond_alive, &state, state.active_count == state.x.size()};
+}
 
 void prepare_rows(const NucleusModel& model, NucleusState& state, VerletRows& rows) {
   const std::uint32_t epoch = rows.epoch;
   update_verlet_grid(model, state, rows);
   if (rows.epoch == epoch) return;  // the rows in place still hold
+  const RowInputs in = row_inputs(state);
   for (std::size_t k = 0; k < state.active_count; ++k)
-    ensure_row(model, state, rows, state.active[k], rows.overflowed_ahead);
+    ensure_row(model, in, rows, state.active[k], rows.overflowed_ahead);
+}
+
+void build_rows_of(const NucleusModel& model, const RowInputs& in, VerletRows& rows,
+                   std::span<const std::int32_t> particles) {
+  for (const std::int32_t i : particles) ensure_row(model, in, rows, i, rows.overflowed_ahead);
 }
 
 namespace {
@@ -236,7 +254,7 @@ class PairBuilder {
       : model_(model), state_(state), rows_(work.rows), step_(work.step), pairs_(work.pairs),
         loose_(work.loose), work_(work), R2_(model.radius * model.radius),
         Rd2_(model.density_radius * model.density_radius), cap_(work.pairs.cap),
-        nb_(static_cast<std::int32_t>(model.bonds.size())) {}
+        nb_(static_cast<std::int32_t>(model.bonds.size())), in_(row_inputs(state)) {}
 
   // The awake particles take the first local numbers, in the order of the awake list.
   void number_awake() {
@@ -307,7 +325,7 @@ class PairBuilder {
       for (std::int32_t c = beyond; c < upper; ++c)
         if (rr[c] < far2) visit(rj[c], rb[c]);
       if (!mark_lower || work_.stamp[i] == lower_mark) {
-        ensure_lower_part(model_, state_, rows_, i, pairs_.overflow);
+        ensure_lower_part(model_, in_, rows_, i, pairs_.overflow);
         const std::int32_t* lj = rows_.j.data() + rows_.lower_at[i];
         const std::int32_t* lb = rows_.bond.data() + rows_.lower_at[i];
         for (std::int32_t c = 0; c < rows_.lower_len[i]; ++c)
@@ -412,7 +430,7 @@ class PairBuilder {
   // far pairs begin.
   std::int32_t open_row(std::size_t k) {
     const std::int32_t i = step_.global[k];
-    ensure_row(model_, state_, rows_, i, pairs_.overflow);
+    ensure_row(model_, in_, rows_, i, pairs_.overflow);
     pairs_.row_near[k] = static_cast<std::int32_t>(pairs_.near);
     pairs_.row_far[k] = static_cast<std::int32_t>(pairs_.far);
     return i;
@@ -424,7 +442,7 @@ class PairBuilder {
   // awake particles, the outer ring for halo ones).
   void pair_row(std::size_t k, std::size_t& next) {
     const std::int32_t i = open_row(k);
-    ensure_lower_part(model_, state_, rows_, i, pairs_.overflow);
+    ensure_lower_part(model_, in_, rows_, i, pairs_.overflow);
     const Vec3 xi = state_.x[i];
     // The upper part, then the lower one.
     for (const auto& [at, n] : {std::pair{rows_.start[i], rows_.upper[i]},
@@ -485,6 +503,7 @@ class PairBuilder {
   const double R2_, Rd2_;
   const std::size_t cap_;
   const std::int32_t nb_;  // bonds at build: higher bond indices are re-formed ones
+  const RowInputs in_;     // what rows built lazily read (the awake list is final here)
 };
 
 }  // namespace

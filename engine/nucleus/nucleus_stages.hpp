@@ -30,6 +30,8 @@ void build_model(NucleusModel& model, std::span<const Collider> static_colliders
 void build_wall_table(NucleusModel& model);
 void init_state(const NucleusModel& model, const NucleusParticleSetup& setup,
                 NucleusState& state);
+/// The Verlet rows' capacities for n particles (part of reserve_workspace).
+void reserve_rows(const NucleusModel& model, std::size_t n, VerletRows& rows);
 /// Every capacity a step needs, so that a step allocates nothing.
 void reserve_workspace(const NucleusModel& model, NucleusWorkspace& work);
 
@@ -46,6 +48,36 @@ void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRo
 /// awake now, done ahead from the same positions and bonds, so the next step finds them built
 /// (the same rows, so the same bits).
 void prepare_rows(const NucleusModel& model, NucleusState& state, VerletRows& rows);
+/// What a Verlet row reads besides the grid: the bonds' states (a live bond wins over a
+/// broken one between the same two particles), the re-formed bonds (re-bonding only) and
+/// whether every particle is awake (a row's lower part is then left until a step reads it).
+struct RowInputs {
+  std::span<const std::uint8_t> bond_alive;
+  const NucleusState* reformed_of;  // whose re-formed bonds the rows carry (re-bonding only)
+  bool all_awake;
+};
+/// The inputs of rows built from the state as it stands.
+RowInputs row_inputs(const NucleusState& state);
+/// Neighbours: the rows of `particles` against the grid in `rows`, those not built since its
+/// last build (a row that runs out of room sets rows.overflowed_ahead).
+void build_rows_of(const NucleusModel& model, const RowInputs& in, VerletRows& rows,
+                   std::span<const std::int32_t> particles);
+/// Neighbours: the sum of the two largest displacements since the grid build (the sleepers'
+/// as they fell asleep), m; the grid is rebuilt when it reaches the skin.
+double verlet_displacement_bound(const NucleusModel& model, const NucleusState& state,
+                                 const VerletRows& rows);
+/// Neighbours: the awake list in particle order again (after a grid build).
+void sort_awake_list(NucleusState& state);
+/// Pipelined multi-rate worlds (nucleus_rows_ahead.cpp): the next grid and rows built ahead,
+/// beside the particle step in flight. Begun at a launch, when the grid in use is likely to
+/// run out before the step after the next (a copy of the positions, bonds and awake list
+/// taken then), built in shares while the step runs (reads only the copy), adopted at the
+/// next launch when still within a skin of the positions then.
+void reserve_rows_ahead(const NucleusModel& model, NucleusWorkspace& work);
+bool begin_rows_ahead(const NucleusModel& model, const NucleusState& state,
+                      NucleusWorkspace& work);
+void build_rows_ahead(const NucleusModel& model, RowsAhead& ahead, double share);
+bool adopt_rows_ahead(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work);
 /// Sleep and wake (nucleus_sleep.cpp): the awake list of this step.
 void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
                     std::span<const Collider> moving, double dt);

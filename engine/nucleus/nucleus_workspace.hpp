@@ -231,8 +231,28 @@ struct ColliderFrames {
   std::array<std::uint8_t, kMaxMovingColliders> end_identity{};  // 1: that end pose is unrotated
 };
 
+/// Pipelined multi-rate worlds: the next grid and rows, built beside the particle step in
+/// flight from a copy of the state at its launch (nucleus_rows_ahead.cpp). Empty until
+/// reserved.
+struct RowsAhead {
+  VerletRows rows;                       // the spare, swapped with the rows in use on adoption
+  std::vector<Vec3> x;                   // N, positions at the launch, m
+  std::vector<std::uint8_t> bond_alive;  // B, the bonds then
+  std::vector<std::int32_t> awake;       // N, the awake particles then: [0, awake_count)
+  std::size_t awake_count = 0;
+  std::size_t built = 0;                 // rows built so far: awake[0, built)
+  bool all_awake = false;
+  bool pending = false;                  // begun, not yet adopted or dropped
+  // The rebuild test's bound at the last launch, and the grid it was measured on (its build
+  // count), for the bound's growth over one particle step.
+  double last_bound_m = 0.0;
+  std::size_t last_grid = 0;
+  std::size_t begun = 0, adopted = 0;    // builds begun and adopted so far
+};
+
 struct NucleusWorkspace {
   VerletRows rows;
+  RowsAhead ahead;
   StepParticles step;
   PairList pairs;
   LooseBonds loose;

@@ -117,9 +117,11 @@ World::World(const WorldConfig& config)
   }
   reactions_.resize(1);
   particle_reactions_.resize(1);
-  if (nucleus_ && config_.solver.nucleus_pipelined)
+  if (nucleus_ && config_.solver.nucleus_pipelined) {
     particle_worker_ = std::make_unique<StepWorker>([this] { run_particle_step(); },
                                                     config_.solver.nucleus_thread);
+    nucleus_->reserve_rows_ahead();
+  }
   // An event's text is a zone's or an instrument's name or one of the step's own messages
   // (all under 64 characters): every slot keeps room for the longest, so emitting allocates
   // nothing.
@@ -385,10 +387,12 @@ void World::step_nucleus() {
     return;
   }
   if (particle_step_pending_) {
+    particle_run_before_s_ = particle_worker_->last_run_s();
     settle_particle_step();
     hand_on_particle_step();
     return;
   }
+  if (particle_worker_) nucleus_->adopt_rows_ahead();  // run here: a grid built ahead, if any
   particle_colliders_ = {};
   particle_reaction_span_ = {};
   if (instrument_) {
@@ -478,6 +482,7 @@ void World::prepare_nucleus() {
 // most a quarter of the lattice spacing before the due step. Faster (a flick, a collision),
 // the due step runs its particle step itself, against the pose the instrument has then.
 void World::launch_particle_step() {
+  nucleus_->adopt_rows_ahead();
   particle_colliders_ = {};
   particle_reaction_span_ = {};
   if (instrument_) {
@@ -508,22 +513,29 @@ void World::launch_particle_step() {
   const std::int64_t due = steps_ - 1 + nucleus_every_;  // the step it is handed on at
   particle_bone_due_ = bone_sample_among(due + 1, due + nucleus_every_);
   particle_step_pending_ = true;
+  nucleus_->begin_rows_ahead();  // from the state the step starts from, before it runs
   particle_launched_at_ = std::chrono::steady_clock::now();
   particle_worker_->launch();
 }
 
-// Pipelined, between launch and hand-on: the j-th step after the launch does not end before
-// j / k of the time the last particle step took has passed since its launch (or the step in
-// flight has finished), so the wait for it is spread over the k steps instead of falling on
-// the due step. When the steps are paced by a clock (a live attempt) the worker runs while
-// they wait for their time, and none of them waits here.
+// Pipelined, between launch and hand-on: the j-th of the k - 1 steps after the launch does not
+// end before j / (k - 1) of the time the particle step is expected to take has passed since
+// its launch (or the step in flight has finished), so the wait for it is spread over the steps
+// between and the due step finds it done. Expected: 10 % above the longer of the last two
+// runs, as a run often takes a few tenths of a millisecond more than the one before (more
+// particles awake); a step that finishes sooner ends the waits at once, so expecting too much
+// costs nothing in the mean. When the steps are paced by a clock (a live attempt) the worker
+// runs while they wait for their time, and none of them waits here. A neighbour rebuild begun
+// at the launch (Nucleus::begin_rows_ahead) has its rows built here in equal shares.
 void World::pace_particle_step() {
   const std::int64_t since = steps_ % nucleus_every_;  // 1 .. k-1
-  const double share_s = particle_worker_->last_run_s() * static_cast<double>(since) /
-                         static_cast<double>(nucleus_every_);
+  const double part = static_cast<double>(since) / static_cast<double>(nucleus_every_ - 1);
+  nucleus_->build_rows_ahead(part);
+  const double expected_s =
+      1.1 * std::max(particle_worker_->last_run_s(), particle_run_before_s_);
   particle_worker_->wait_until(particle_launched_at_ +
                                std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                   std::chrono::duration<double>(share_s)));
+                                   std::chrono::duration<double>(part * expected_s)));
 }
 
 // instrument: the implicit update under the coupling, the nucleus's reaction and gravity, which

@@ -233,6 +233,7 @@ class World {
   Vec3 particle_point_velocity_ = Vec3::Zero();
   Vec3 particle_angular_velocity_ = Vec3::Zero();
   bool particle_step_pending_ = false;
+  double particle_run_before_s_ = 0.0;  // the run before the last (pace_particle_step)
   std::chrono::steady_clock::time_point particle_launched_at_{};
   // Pipelined with bone loads: the particle step in flight gathers its reaction on the bone
   // (when a sample will read it) into particle_bone_cells_.

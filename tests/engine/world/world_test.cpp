@@ -154,6 +154,9 @@ TEST(World, PipelinedParticleStepsMatchTheStepsInPlaceWhenNothingElseMoves) {
   World in_place_on(c);
   for (int i = 0; i < 303; ++i) in_place_on.step(DeviceSample{});
   EXPECT_EQ(pipelined.state_hash(), in_place_on.state_hash());
+  // The particles settle by less than a skin: no neighbour rebuild, in place or made ahead
+  // (one made ahead would give other rows, and other bits).
+  EXPECT_EQ(pipelined.nucleus()->grid_builds(), 1u);
 }
 
 // Pipelined particle steps on their own thread give what the same steps run inline give (the
@@ -183,6 +186,8 @@ TEST(World, PipelinedOnAThreadIsBitIdenticalToInline) {
   EXPECT_FALSE(threaded.failed());
   EXPECT_GT(pressed, 1e-3) << "the blade met the material";
   EXPECT_GT(differs_from_in_place, 0) << "no particle step was launched ahead";
+  EXPECT_GT(threaded.nucleus()->rows_ahead_adopted(), 0u) << "no neighbour rebuild made ahead";
+  EXPECT_EQ(threaded.nucleus()->rows_ahead_adopted(), in_line.nucleus()->rows_ahead_adopted());
   EXPECT_EQ(threaded.state_hash(), in_line.state_hash());
 }
 
