@@ -121,6 +121,8 @@ World::World(const WorldConfig& config)
     particle_worker_ = std::make_unique<StepWorker>([this] { run_particle_step(); },
                                                     config_.solver.nucleus_thread);
     nucleus_->reserve_rows_ahead();
+    const auto x = nucleus_->positions();
+    handed_on_x_.assign(x.begin(), x.end());
   }
   // An event's text is a zone's or an instrument's name or one of the step's own messages
   // (all under 64 characters): every slot keeps room for the longest, so emitting allocates
@@ -436,6 +438,10 @@ void World::hand_on_particle_step() {
     stepped_angular_velocity_ = particle_angular_velocity_;
   }
   if (!nucleus_) return;
+  if (particle_worker_) {
+    const auto x = nucleus_->positions();
+    std::copy(x.begin(), x.end(), handed_on_x_.begin());
+  }
   if (particle_bone_due_) bone_cells_ = particle_bone_cells_;
   frame_.solver_iterations = particle_report_.iterations;
   // The particles move only in their steps: the counts hold until the next is handed on.
@@ -709,6 +715,19 @@ void World::drain_events(std::vector<Event>& out) {
   out.insert(out.end(), events_.begin(),
              events_.begin() + static_cast<std::ptrdiff_t>(pending_events_));
   pending_events_ = 0;
+}
+
+std::span<const Vec3> World::particle_positions() const {
+  if (!nucleus_) return {};
+  return particle_worker_ ? std::span<const Vec3>(handed_on_x_) : nucleus_->positions();
+}
+
+std::span<const std::uint8_t> World::particle_materials() const {
+  return nucleus_ ? nucleus_->materials() : std::span<const std::uint8_t>{};
+}
+
+bool World::removed_at(const Vec3& x) const {
+  return outside_region(x, config_.removal.min_m, config_.removal.max_m);
 }
 
 bool World::is_removed(std::size_t i) const {

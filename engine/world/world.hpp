@@ -104,6 +104,14 @@ class World {
     settle_particle_step();
     return nucleus_.get();
   }
+  /// The particles' positions as the last particle step handed on left them, m (empty without
+  /// a nucleus). Pipelined, a copy taken at the hand-on, so a reader between steps (the trainee
+  /// view) does not wait for the particle step in flight; otherwise the particles' own.
+  std::span<const Vec3> particle_positions() const;
+  /// Each particle's material (an index into the configured materials; fixed at the build).
+  std::span<const std::uint8_t> particle_materials() const;
+  /// Whether a particle at x counts as removed: outside the removal region.
+  bool removed_at(const Vec3& x) const;
   /// The anatomical scene (vertebrae, grids, zones), or null without anatomy.
   const Anatomy* anatomy() const { return anatomy_.get(); }
   /// The instrument in hand, or null without one.
@@ -234,6 +242,7 @@ class World {
   Vec3 particle_angular_velocity_ = Vec3::Zero();
   bool particle_step_pending_ = false;
   double particle_run_before_s_ = 0.0;  // the run before the last (pace_particle_step)
+  std::vector<Vec3> handed_on_x_;  // pipelined: the positions at the last hand-on
   std::chrono::steady_clock::time_point particle_launched_at_{};
   // Pipelined with bone loads: the particle step in flight gathers its reaction on the bone
   // (when a sample will read it) into particle_bone_cells_.
