@@ -21,24 +21,36 @@ namespace acdr::nucleus {
 // ones; this one tolerates a few fast particles among slow ones). Only awake and kinematic
 // particles move; those that fell asleep keep the displacement they had
 // (rows.frozen_disp2).
+void note_two_largest(double d2, std::array<double, 2>& m) {
+  if (d2 <= m[1]) return;  // NaN counts as largest
+  if (!(d2 <= m[0])) {
+    m[1] = m[0];
+    m[0] = d2;
+  } else {
+    m[1] = d2;
+  }
+}
+
 double verlet_displacement_bound(const NucleusModel& model, const NucleusState& state,
                                  const VerletRows& rows) {
-  // The two largest squared displacements.
-  double m1 = rows.frozen_disp2[0], m2 = rows.frozen_disp2[1];
+  std::array<double, 2> m = rows.frozen_disp2;
   auto note = [&](std::int32_t i) {
-    const double d2 = min_image(model, state.x[i] - rows.x_built[i]).squaredNorm();
-    if (!(d2 <= m2)) {  // NaN counts as largest
-      if (!(d2 <= m1)) {
-        m2 = m1;
-        m1 = d2;
-      } else {
-        m2 = d2;
-      }
-    }
+    note_two_largest(min_image(model, state.x[i] - rows.x_built[i]).squaredNorm(), m);
   };
   for (std::size_t k = 0; k < state.active_count; ++k) note(state.active[k]);
   for (const std::int32_t i : state.kinematic_list) note(i);
-  return std::sqrt(m1) + std::sqrt(m2);
+  return std::sqrt(m[0]) + std::sqrt(m[1]);
+}
+
+void build_verlet_grid(const NucleusModel& model, std::span<const Vec3> x, VerletRows& rows) {
+  rows.disp_bound = 0.0;
+  rows.frozen_disp2 = {0.0, 0.0};
+  rows.grid.build(x, model.radius + model.skin, model.options.periodic,
+                  model.options.periodic_min_m, model.options.periodic_max_m);
+  std::copy(x.begin(), x.end(), rows.x_built.begin());
+  ++rows.epoch;
+  rows.used = 0;
+  rows.grid_valid = true;
 }
 
 // Re-sorts the awake list by particle index (it grows by appending between builds), which
@@ -55,14 +67,7 @@ void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRo
   rows.disp_bound = verlet_displacement_bound(model, state, rows);
   const bool rebuild = !rows.grid_valid || !(rows.disp_bound < model.skin);
   if (!rebuild) return;
-  rows.disp_bound = 0.0;
-  rows.frozen_disp2 = {0.0, 0.0};
-  rows.grid.build(state.x, model.radius + model.skin, model.options.periodic,
-                  model.options.periodic_min_m, model.options.periodic_max_m);
-  std::copy(state.x.begin(), state.x.end(), rows.x_built.begin());
-  ++rows.epoch;
-  rows.used = 0;
-  rows.grid_valid = true;
+  build_verlet_grid(model, state.x, rows);
   ++rows.grid_builds;
   sort_awake_list(state);
 }

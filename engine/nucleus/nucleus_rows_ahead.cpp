@@ -25,17 +25,6 @@ namespace {
 
 constexpr double kGrowthMargin = 1.5;
 
-// A squared displacement into the two largest so far (NaN counts as largest).
-void note_largest(double d2, std::array<double, 2>& m) {
-  if (d2 <= m[1]) return;
-  if (!(d2 <= m[0])) {
-    m[1] = m[0];
-    m[0] = d2;
-  } else {
-    m[1] = d2;
-  }
-}
-
 }  // namespace
 
 void reserve_rows_ahead(const NucleusModel& model, NucleusWorkspace& work) {
@@ -92,15 +81,8 @@ void build_rows_ahead(const NucleusModel& model, RowsAhead& ahead, double share)
   if (!ahead.pending) return;
   VerletRows& next = ahead.rows;
   if (!next.grid_valid) {
-    next.grid.build(ahead.x, model.radius + model.skin, model.options.periodic,
-                    model.options.periodic_min_m, model.options.periodic_max_m);
-    std::copy(ahead.x.begin(), ahead.x.end(), next.x_built.begin());
-    ++next.epoch;
-    next.used = 0;
-    next.grid_valid = true;
+    build_verlet_grid(model, ahead.x, next);
     next.overflowed_ahead = false;
-    next.disp_bound = 0.0;
-    next.frozen_disp2 = {0.0, 0.0};
   }
   const double want = std::ceil(std::clamp(share, 0.0, 1.0) * double(ahead.awake_count));
   const std::size_t until = std::min(ahead.awake_count, static_cast<std::size_t>(want));
@@ -122,11 +104,11 @@ bool adopt_rows_ahead(const NucleusModel& model, NucleusState& state, NucleusWor
   std::array<double, 2> moving = {0.0, 0.0}, frozen = {0.0, 0.0};
   for (std::size_t i = 0; i < state.x.size(); ++i) {
     const double d2 = min_image(model, state.x[i] - next.x_built[i]).squaredNorm();
-    note_largest(d2, state.awake[i] || state.kinematic[i] ? moving : frozen);
+    note_two_largest(d2, state.awake[i] || state.kinematic[i] ? moving : frozen);
   }
   std::array<double, 2> all = moving;
-  note_largest(frozen[0], all);
-  note_largest(frozen[1], all);
+  note_two_largest(frozen[0], all);
+  note_two_largest(frozen[1], all);
   const double bound = std::sqrt(all[0]) + std::sqrt(all[1]);
   if (!(bound < model.skin)) return false;
   const std::size_t builds = work.rows.grid_builds;

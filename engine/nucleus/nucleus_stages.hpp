@@ -5,6 +5,7 @@
 // engine/nucleus (the public face is nucleus.hpp).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 
@@ -66,6 +67,10 @@ void build_rows_of(const NucleusModel& model, const RowInputs& in, VerletRows& r
 /// as they fell asleep), m; the grid is rebuilt when it reaches the skin.
 double verlet_displacement_bound(const NucleusModel& model, const NucleusState& state,
                                  const VerletRows& rows);
+/// A squared displacement into the two largest so far, m[0] >= m[1] (NaN counts as largest).
+void note_two_largest(double d2, std::array<double, 2>& m);
+/// Neighbours: a new grid at positions x (every row to be built again).
+void build_verlet_grid(const NucleusModel& model, std::span<const Vec3> x, VerletRows& rows);
 /// Neighbours: the awake list in particle order again (after a grid build).
 void sort_awake_list(NucleusState& state);
 /// Pipelined multi-rate worlds (nucleus_rows_ahead.cpp): the next grid and rows built ahead,
