@@ -223,8 +223,9 @@ void draw_trainee_hud(const HudModel& hud, const ImVec2& display, HudActions* ac
   ImGui::SetNextWindowPos(ImVec2(margin, margin));
   ImGui::SetNextWindowSize(ImVec2(goal_width, 0));
   ImGui::Begin("Module", nullptr, fixed | ImGuiWindowFlags_AlwaysAutoResize);
-  ImGui::TextColored(ui_colors::kInfo, "%s", hud.title.c_str());
   ImGui::PushTextWrapPos(goal_width - 12.0f);
+  // A long title wraps like the goal under it instead of running out of the panel.
+  text_colored_wrapped(ui_colors::kInfo, "%s", hud.title.c_str());
   text_wrapped("%s", hud.goal.c_str());
   ImGui::PopTextWrapPos();
   ImGui::TextColored(ui_colors::kMuted, "Input: %s", hud.input_label.c_str());
