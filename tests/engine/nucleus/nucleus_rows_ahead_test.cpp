@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/nucleus/nucleus_stages.hpp"
+#include "tests/engine/nucleus/same_pairs.hpp"
 #include "verification/box_block_scene.hpp"
 
 namespace acdr::nucleus {
@@ -53,30 +54,6 @@ struct Staged {
   }
 };
 
-void expect_same_pairs(const Staged& a, const Staged& b) {
-  const StepParticles& s = a.work.step;
-  const StepParticles& t = b.work.step;
-  ASSERT_EQ(s.awake_end, t.awake_end);
-  ASSERT_EQ(s.halo_end, t.halo_end);
-  ASSERT_GT(s.halo_end, s.awake_end);  // sleepers take part through the awake rows
-  ASSERT_EQ(s.outer_end, t.outer_end);
-  for (std::size_t k = 0; k < s.outer_end; ++k) ASSERT_EQ(s.global[k], t.global[k]) << k;
-  const PairList& p = a.work.pairs;
-  const PairList& q = b.work.pairs;
-  ASSERT_FALSE(p.overflow);
-  ASSERT_EQ(p.near, q.near);
-  ASSERT_EQ(p.far, q.far);
-  ASSERT_GT(p.near, 0u);
-  auto same = [&](std::size_t k) {
-    ASSERT_EQ(p.i[k], q.i[k]) << k;
-    ASSERT_EQ(p.j[k], q.j[k]) << k;
-    ASSERT_EQ(p.bond[k], q.bond[k]) << k;
-    ASSERT_EQ(p.r[k], q.r[k]) << k;
-  };
-  for (std::size_t k = 0; k < p.near; ++k) same(k);
-  for (std::size_t k = p.cap - p.far; k < p.cap; ++k) same(k);
-}
-
 TEST(NucleusRowsAhead, AdoptedRowsPairAsARebuildAtTheirPositions) {
   const BoxBlockScene scene = make_box_block_scene(3e-3);
   Staged ahead(scene), rebuilt(scene);
@@ -103,7 +80,7 @@ TEST(NucleusRowsAhead, AdoptedRowsPairAsARebuildAtTheirPositions) {
   ahead.pair_up();
   EXPECT_EQ(ahead.work.rows.grid_builds, builds + 1) << "the adopted grid was rebuilt again";
   rebuilt.pair_up();
-  expect_same_pairs(ahead, rebuilt);
+  test::expect_same_pairs(ahead.work, rebuilt.work);
 }
 
 TEST(NucleusRowsAhead, AGridThatNoLongerHoldsIsDroppedAndTheStepRebuilds) {

@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "tests/engine/nucleus/same_pairs.hpp"
 #include "verification/box_block_scene.hpp"
 
 namespace acdr::nucleus {
@@ -436,29 +437,7 @@ TEST(NucleusStages, ALowerPartBuiltLaterGivesTheSamePairsAsAWholeRow) {
   pair_up(later);
   ASSERT_EQ(later.work.rows.epoch, epoch);  // nothing moved: the same grid build
   pair_up(whole);
-  const StepParticles& a = later.work.step;
-  const StepParticles& b = whole.work.step;
-  ASSERT_EQ(a.awake_end, b.awake_end);
-  ASSERT_EQ(a.halo_end, b.halo_end);
-  ASSERT_GT(a.halo_end, a.awake_end);  // the sleepers take part through their rows
-  ASSERT_EQ(a.outer_end, b.outer_end);
-  for (std::size_t k = 0; k < a.outer_end; ++k) ASSERT_EQ(a.global[k], b.global[k]) << k;
-  const PairList& p = later.work.pairs;
-  const PairList& q = whole.work.pairs;
-  ASSERT_FALSE(p.overflow);
-  ASSERT_EQ(p.near, q.near);
-  ASSERT_EQ(p.far, q.far);
-  EXPECT_EQ(p.near_awake, q.near_awake);
-  EXPECT_EQ(p.far_awake, q.far_awake);
-  auto same = [&](std::size_t k) {
-    EXPECT_EQ(p.i[k], q.i[k]) << k;
-    EXPECT_EQ(p.j[k], q.j[k]) << k;
-    EXPECT_EQ(p.bond[k], q.bond[k]) << k;
-    EXPECT_EQ(p.r[k], q.r[k]) << k;
-    EXPECT_EQ(p.n[k], q.n[k]) << k;
-  };
-  for (std::size_t k = 0; k < p.near; ++k) same(k);
-  for (std::size_t k = p.cap - p.far; k < p.cap; ++k) same(k);
+  test::expect_same_pairs(later.work, whole.work);
 }
 
 TEST(NucleusStages, WallHitsAreGroupedByParticleAndWithinReach) {
