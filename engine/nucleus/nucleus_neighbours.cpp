@@ -77,8 +77,8 @@ namespace {
 constexpr int kReformed = ReformedBonds::kPerParticle;
 
 // The other particle of the re-formed bond in slot s, seen from particle i.
-std::int32_t reformed_other(const NucleusState& state, std::int32_t s, std::int32_t i) {
-  const std::int32_t a = state.reformed.ij[2 * s], b = state.reformed.ij[2 * s + 1];
+std::int32_t reformed_other(const ReformedBonds& reformed, std::int32_t s, std::int32_t i) {
+  const std::int32_t a = reformed.ij[2 * s], b = reformed.ij[2 * s + 1];
   return a == i ? b : a;
 }
 
@@ -96,11 +96,11 @@ void mark_partners(const NucleusModel& model, const RowInputs& in, VerletRows& r
       rows.partner_bond[other] = b;
   }
   if (!model.rebonding) return;
-  const NucleusState& state = *in.reformed_of;
-  const std::int32_t* reformed_of = state.reformed.of.data() + static_cast<std::size_t>(i) * kReformed;
+  const ReformedBonds& reformed = *in.reformed;
+  const std::int32_t* reformed_of = reformed.of.data() + static_cast<std::size_t>(i) * kReformed;
   for (int a = 0; a < kReformed; ++a)
     if (const std::int32_t s = reformed_of[a]; s >= 0)
-      rows.partner_bond[reformed_other(state, s, i)] =
+      rows.partner_bond[reformed_other(reformed, s, i)] =
           set ? static_cast<std::int32_t>(model.bonds.size()) + s : -1;
 }
 
@@ -232,7 +232,7 @@ void ensure_lower_part(const NucleusModel& model, const RowInputs& in, VerletRow
 }  // namespace
 
 RowInputs row_inputs(const NucleusState& state) {
-  return {state.bond_alive, &state, state.active_count == state.x.size()};
+  return {state.bond_alive, &state.reformed, state.active_count == state.x.size()};
 }
 
 void prepare_rows(const NucleusModel& model, NucleusState& state, VerletRows& rows) {

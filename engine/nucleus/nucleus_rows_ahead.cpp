@@ -42,8 +42,9 @@ void reserve_rows_ahead(const NucleusModel& model, NucleusWorkspace& work) {
 // 1.5 times its growth over the last particle step reaches the skin. The coming step tests the
 // bound at these same positions, so it is safe with the grid in use; the step after it tests
 // the bound one particle step on, so waiting for the next launch is safe only while the bound
-// grows by less than the skin left (1.5: the growth varies from step to step by up to ~40 %
-// on the full-size disc; a step that finds its grid gone rebuilds it itself). Not when the
+// grows by less than the skin left (1.5: a margin for the growth changing from one particle
+// step to the next, by up to a fifth in the full-size disc's traced windows; a step that finds
+// its grid gone rebuilds it itself). Not when the
 // coming step rebuilds anyway, nor with re-bonding (its bonds change the rows inside a grid
 // build) or periodic axes.
 bool begin_rows_ahead(const NucleusModel& model, const NucleusState& state,
@@ -64,15 +65,10 @@ bool begin_rows_ahead(const NucleusModel& model, const NucleusState& state,
   std::copy(state.active.begin(),
             state.active.begin() + static_cast<std::ptrdiff_t>(state.active_count),
             ahead.awake.begin());
-  ahead.awake_count = state.active_count;
-  // Rows are built in particle order, as after a rebuild (sort_awake_list).
-  std::sort(ahead.awake.begin(),
-            ahead.awake.begin() + static_cast<std::ptrdiff_t>(ahead.awake_count));
-  ahead.all_awake = state.active_count == state.x.size();
+  ahead.awake_count = state.active_count;  // (the order rows are built in changes no row)
   ahead.built = 0;
   ahead.rows.grid_valid = false;  // built with the first share
   ahead.pending = true;
-  ++ahead.begun;
   return true;
 }
 
@@ -87,7 +83,7 @@ void build_rows_ahead(const NucleusModel& model, RowsAhead& ahead, double share)
   const double want = std::ceil(std::clamp(share, 0.0, 1.0) * double(ahead.awake_count));
   const std::size_t until = std::min(ahead.awake_count, static_cast<std::size_t>(want));
   if (until <= ahead.built) return;
-  const RowInputs in{ahead.bond_alive, nullptr, ahead.all_awake};
+  const RowInputs in{ahead.bond_alive, nullptr, ahead.awake_count == ahead.x.size()};
   build_rows_of(model, in, next,
                 std::span<const std::int32_t>(ahead.awake.data() + ahead.built, until - ahead.built));
   ahead.built = until;

@@ -54,7 +54,7 @@ void prepare_rows(const NucleusModel& model, NucleusState& state, VerletRows& ro
 /// whether every particle is awake (a row's lower part is then left until a step reads it).
 struct RowInputs {
   std::span<const std::uint8_t> bond_alive;
-  const NucleusState* reformed_of;  // whose re-formed bonds the rows carry (re-bonding only)
+  const ReformedBonds* reformed;  // the re-formed bonds the rows carry (re-bonding only)
   bool all_awake;
 };
 /// The inputs of rows built from the state as it stands.

@@ -241,13 +241,12 @@ struct RowsAhead {
   std::vector<std::int32_t> awake;       // N, the awake particles then: [0, awake_count)
   std::size_t awake_count = 0;
   std::size_t built = 0;                 // rows built so far: awake[0, built)
-  bool all_awake = false;
   bool pending = false;                  // begun, not yet adopted or dropped
   // The rebuild test's bound at the last launch, and the grid it was measured on (its build
   // count), for the bound's growth over one particle step.
   double last_bound_m = 0.0;
   std::size_t last_grid = 0;
-  std::size_t begun = 0, adopted = 0;    // builds begun and adopted so far
+  std::size_t adopted = 0;               // grids adopted so far
 };
 
 struct NucleusWorkspace {

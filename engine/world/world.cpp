@@ -394,7 +394,9 @@ void World::step_nucleus() {
     hand_on_particle_step();
     return;
   }
-  if (particle_worker_) nucleus_->adopt_rows_ahead();  // run here: a grid built ahead, if any
+  // Pipelined, a particle step not launched ahead runs here: it takes over a grid
+  // built ahead first, if one is pending.
+  if (particle_worker_) nucleus_->adopt_rows_ahead();
   particle_colliders_ = {};
   particle_reaction_span_ = {};
   if (instrument_) {
@@ -732,7 +734,7 @@ bool World::removed_at(const Vec3& x) const {
 
 bool World::is_removed(std::size_t i) const {
   settle_particle_step();
-  return outside_region(nucleus_->positions()[i], config_.removal.min_m, config_.removal.max_m);
+  return removed_at(nucleus_->positions()[i]);
 }
 
 void World::count_removed() {

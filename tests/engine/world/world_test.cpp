@@ -27,6 +27,9 @@ DeviceSample at(const Vec3& grip) {
   return s;
 }
 
+// Step i of a press straight down into the block at 25 mm/s, held at 53.5 mm.
+DeviceSample press(int i) { return at(Vec3(0, 0, std::max(0.07 - 2.5e-5 * i, 0.0535))); }
+
 TEST(World, BuildsOnlyWhatIsDeclared) {
   WorldConfig c = small_box(false);
   c.box.enabled = false;
@@ -106,7 +109,6 @@ TEST(World, MultiRateStepsTheParticlesEveryKthStepAndHoldsTheirReaction) {
   every.solver.nucleus_every = k;
   World multi(every);
   World single(small_box());
-  auto press = [](int i) { return at(Vec3(0, 0, std::max(0.07 - 2.5e-5 * i, 0.0535))); };
   double multi_sum = 0.0, single_sum = 0.0;
   int pressing = 0, solved = 0;
   for (int i = 0; i < 1000; ++i) {
@@ -172,7 +174,6 @@ TEST(World, PipelinedOnAThreadIsBitIdenticalToInline) {
   WorldConfig inline_config = pipelined;
   inline_config.solver.nucleus_thread = false;
   World threaded(pipelined), in_line(inline_config), in_place(c);
-  auto press = [](int i) { return at(Vec3(0, 0, std::max(0.07 - 2.5e-5 * i, 0.0535))); };
   double pressed = 0.0;
   int differs_from_in_place = 0;
   for (int i = 0; i < 900; ++i) {
@@ -202,7 +203,6 @@ TEST(World, PipelinedReadersBetweenStepsSeeThePositionsHandedOn) {
   c.solver.nucleus_pipelined = true;
   c.solver.nucleus_thread = false;
   World w(c);
-  auto press = [](int i) { return at(Vec3(0, 0, std::max(0.07 - 2.5e-5 * i, 0.0535))); };
   auto copy = [](std::span<const Vec3> x) { return std::vector<Vec3>(x.begin(), x.end()); };
   std::vector<Vec3> shown = copy(w.particle_positions()), stepped = shown;
   int changes = 0, ahead = 0;
@@ -224,7 +224,7 @@ TEST(World, PipelinedReadersBetweenStepsSeeThePositionsHandedOn) {
   ASSERT_FALSE(w.failed());
   EXPECT_GT(changes, 10) << "the particles moved at hand-ons";
   EXPECT_GT(ahead, 100) << "a step in flight was ahead of what readers see";
-  EXPECT_EQ(w.removed_at(Vec3(0, 0, 1.0)), true);
+  EXPECT_TRUE(w.removed_at(Vec3(0, 0, 1.0)));
   EXPECT_EQ(w.particle_materials().size(), shown.size());
 }
 
