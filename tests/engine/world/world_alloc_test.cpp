@@ -76,7 +76,9 @@ TEST(WorldAllocation, StepAllocatesNothing) {
     EXPECT_EQ(during, 0) << "heap allocations inside World::step, particles every " << every
                          << (rate.pipelined ? ", pipelined" : "");
     // Pipelined, the neighbour rebuilds were made ahead (a copy, a grid, rows, an adoption).
-    if (rate.pipelined) EXPECT_GT(w.nucleus()->rows_ahead_adopted(), 0u);
+    if (rate.pipelined) {
+      EXPECT_GT(w.nucleus()->rows_ahead_adopted(), 0u);
+    }
   }
 }
 
