@@ -127,6 +127,7 @@ struct ScalingPoint {
   double cpu_us_per_iteration_per_particle = 0.0;
   double cpu_us_per_particle_step = 0.0;  ///< CPU time per step per particle, us
   double p99_step_ms = 0.0;               ///< 99th-percentile step, wall, ms
+  int timing_runs = 1;                    ///< timed runs; the times above are the fastest
 };
 
 /// Least-squares fit cost = c * N^exponent on log-log axes.
