@@ -53,23 +53,12 @@ void build_verlet_grid(const NucleusModel& model, std::span<const Vec3> x, Verle
   rows.grid_valid = true;
 }
 
-// Re-sorts the awake list by particle index (it grows by appending between builds), which
-// keeps the local numbering close to the lattice order.
-void sort_awake_list(NucleusState& state) {
-  if (state.active_count == 0) return;
-  std::size_t n_awake = 0;
-  for (std::size_t i = 0; i < state.x.size(); ++i)
-    if (state.awake[i]) state.active[n_awake++] = static_cast<std::int32_t>(i);
-  state.active_count = n_awake;
-}
-
-void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRows& rows) {
+void update_verlet_grid(const NucleusModel& model, const NucleusState& state, VerletRows& rows) {
   rows.disp_bound = verlet_displacement_bound(model, state, rows);
   const bool rebuild = !rows.grid_valid || !(rows.disp_bound < model.skin);
   if (!rebuild) return;
   build_verlet_grid(model, state.x, rows);
   ++rows.grid_builds;
-  sort_awake_list(state);
 }
 
 namespace {

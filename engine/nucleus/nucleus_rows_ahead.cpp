@@ -89,7 +89,8 @@ void build_rows_ahead(const NucleusModel& model, RowsAhead& ahead, double share)
   ahead.built = until;
 }
 
-bool adopt_rows_ahead(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work) {
+bool adopt_rows_ahead(const NucleusModel& model, const NucleusState& state,
+                      NucleusWorkspace& work) {
   RowsAhead& ahead = work.ahead;
   if (!ahead.pending) return false;
   build_rows_ahead(model, ahead, 1.0);
@@ -112,7 +113,6 @@ bool adopt_rows_ahead(const NucleusModel& model, NucleusState& state, NucleusWor
   work.rows.grid_builds = builds + 1;
   work.rows.frozen_disp2 = frozen;
   work.rows.disp_bound = bound;
-  sort_awake_list(state);
   ++ahead.adopted;
   return true;
 }

@@ -42,8 +42,8 @@ void reserve_workspace(const NucleusModel& model, NucleusWorkspace& work);
 void begin_step(NucleusState& state, NucleusWorkspace& work, std::span<const Collider> moving,
                 double dt);
 /// Neighbours (nucleus_neighbours.cpp): rebuilds the Verlet grid when two particles have
-/// moved a skin together since its last build (and then re-sorts the awake list).
-void update_verlet_grid(const NucleusModel& model, NucleusState& state, VerletRows& rows);
+/// moved a skin together since its last build.
+void update_verlet_grid(const NucleusModel& model, const NucleusState& state, VerletRows& rows);
 /// Neighbours, between two particle steps of a multi-rate world while nothing moves: the grid
 /// rebuild that the next step's update_verlet_grid would do, and the rows of the particles
 /// awake now, done ahead from the same positions and bonds, so the next step finds them built
@@ -71,8 +71,6 @@ double verlet_displacement_bound(const NucleusModel& model, const NucleusState& 
 void note_two_largest(double d2, std::array<double, 2>& m);
 /// Neighbours: a new grid at positions x (every row to be built again).
 void build_verlet_grid(const NucleusModel& model, std::span<const Vec3> x, VerletRows& rows);
-/// Neighbours: the awake list in particle order again (after a grid build).
-void sort_awake_list(NucleusState& state);
 /// Pipelined multi-rate worlds (nucleus_rows_ahead.cpp): the next grid and rows built ahead,
 /// beside the particle step in flight. Begun at a launch, when the grid in use is likely to
 /// run out before the step after the next (a copy of the positions, bonds and awake list
@@ -82,7 +80,8 @@ void reserve_rows_ahead(const NucleusModel& model, NucleusWorkspace& work);
 bool begin_rows_ahead(const NucleusModel& model, const NucleusState& state,
                       NucleusWorkspace& work);
 void build_rows_ahead(const NucleusModel& model, RowsAhead& ahead, double share);
-bool adopt_rows_ahead(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work);
+bool adopt_rows_ahead(const NucleusModel& model, const NucleusState& state,
+                      NucleusWorkspace& work);
 /// Sleep and wake (nucleus_sleep.cpp): the awake list of this step.
 void wake_and_sleep(const NucleusModel& model, NucleusState& state, NucleusWorkspace& work,
                     std::span<const Collider> moving, double dt);
